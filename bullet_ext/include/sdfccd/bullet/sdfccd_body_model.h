@@ -1,0 +1,99 @@
+/// @file
+/// @brief SdfccdBodyModel: everything one rigid body shape needs for point-vs-field CCD (paper Section 5):
+/// the point shell and its tree, the distance field and its octree, mass properties and the mesh.
+///
+/// @details In the paper's simulations "each bunny carries a pointshell and a signed distance field": every
+/// pair is checked twice, each body in each role. A model is immutable once built and shared through
+/// std::shared_ptr<const SdfccdBodyModel> by any number of shapes and bodies; reading it from many threads is
+/// safe.
+///
+/// Frames: the model's *body frame* is the frame Bullet simulates (centre of mass at the origin, axes along
+/// the principal axes of inertia unless the mesh's own axes already are principal). The mesh and the shell
+/// are stored in the body frame, the field too when built here (see bodyFromField()); `modelFromBody` maps body coordinates back to the mesh file's
+/// coordinates (after scaling), so a scene's pose of the mesh is worldFromModel = worldFromBody *
+/// modelFromBody^-1.
+///
+/// Uniform scaling is baked in at build time (settings.scale): the field and the shell are built from the
+/// scaled mesh and the cache key includes the scale. The Bullet shape rejects setLocalScaling.
+///
+/// Cache: buildFromMeshFile() keys an on-disk cache by a 64-bit FNV-1a hash of the mesh file's bytes and the
+/// parameters (resolution, padding, points, scale, format version); the field (native .sdf) and the shell
+/// (.ply) are written atomically, so an interrupted build never leaves a corrupt cache entry.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "sdfccd/grid_field.h"
+#include "sdfccd/mass_properties.h"
+#include "sdfccd/math_types.h"
+#include "sdfccd/point_shell.h"
+#include "sdfccd/point_tree.h"
+#include "sdfccd/progress.h"
+#include "sdfccd/triangle_mesh.h"
+
+namespace sdfccd {
+
+/// How a model is built from a mesh.
+struct SdfccdBodyModelSettings {
+  int resolution = 128;     ///< SDF cells along the longest side of the mesh's box
+  int padding = 4;          ///< SDF cells added around the mesh's box on every side
+  int points = 0;           ///< shell points by particle repulsion; 0: the mesh's vertices
+  double scale = 1.0;       ///< uniform scale applied to the mesh first (> 0)
+  int threads = 0;          ///< worker threads of the builds (0: all cores)
+  std::string cacheDir;     ///< buildFromMeshFile's cache folder; empty: no cache
+  ProgressCallback progress;  ///< optional, fraction of the SDF build done
+};
+
+class SdfccdBodyModel {
+ public:
+  /// Builds a model from a mesh given in model units (scale applied here). Throws sdfccd::Error on a bad mesh
+  /// (not closed, zero volume) or bad settings.
+  static std::shared_ptr<const SdfccdBodyModel> buildFromMesh(const TriangleMesh& meshInModel,
+                                                              const SdfccdBodyModelSettings& settings);
+  /// Loads the mesh file (any format sdfccd::io reads) and builds, or loads from the cache when an entry for
+  /// the same file content and parameters exists. Throws sdfccd::Error naming the file on failure.
+  static std::shared_ptr<const SdfccdBodyModel> buildFromMeshFile(const std::string& meshPath,
+                                                                  const SdfccdBodyModelSettings& settings);
+  /// Assembles a model from files: the mesh (for mass properties and rendering), a field (.sdf/.sdfgen) and
+  /// a shell (.ply/.csv), all three in the mesh's model frame, scaled by settings.scale. Throws sdfccd::Error.
+  static std::shared_ptr<const SdfccdBodyModel> loadFromFiles(const std::string& meshPath, const std::string& sdfPath,
+                                                              const std::string& shellPath,
+                                                              const SdfccdBodyModelSettings& settings);
+
+  const TriangleMesh& meshInBody() const { return m_meshInBody; }
+  const PointShell& shell() const { return m_tree.shell(); }  ///< body frame
+  const PointTree& tree() const { return m_tree; }
+  const GridField& field() const { return *m_field; }
+  /// Maps field coordinates to body coordinates: identity for models built here; the model-to-body map for
+  /// fields loaded from files (a grid cannot be rotated, so the field keeps the mesh file's frame).
+  const Rigid& bodyFromField() const { return m_bodyFromField; }
+  /// Mass properties at unit density, in the body frame (COM at the origin, diagonal inertia).
+  const MassProperties& unitDensityMassProperties() const { return m_mass; }
+  /// Principal moments of inertia for a total mass (kg m^2).
+  Vec3 principalInertia(double mass) const { return m_mass.principalMoments * (mass / m_mass.mass); }
+  const Rigid& modelFromBody() const { return m_modelFromBody; }
+  double cellSize() const { return m_field->spacing(); }  ///< model units
+  /// The axis-aligned box of the mesh in the body frame.
+  const Box3& boundsInBody() const { return m_boundsInBody; }
+  /// True when the model came from the cache (buildFromMeshFile only).
+  bool fromCache() const { return m_fromCache; }
+
+ private:
+  SdfccdBodyModel() = default;
+  static std::shared_ptr<SdfccdBodyModel> assemble(const TriangleMesh& meshInModel, double scale);
+
+  TriangleMesh m_meshInBody;
+  PointTree m_tree;
+  std::unique_ptr<GridField> m_field;
+  MassProperties m_mass;
+  Rigid m_modelFromBody = Rigid::Identity();
+  Rigid m_bodyFromField = Rigid::Identity();
+  Box3 m_boundsInBody;
+  bool m_fromCache = false;
+};
+
+/// 64-bit FNV-1a of `bytes`, continuing from `seed` (stable across platforms; the cache key).
+std::uint64_t fnv1a64(const std::string& bytes, std::uint64_t seed = 14695981039346656037ull);
+
+}  // namespace sdfccd

@@ -1,0 +1,51 @@
+/// @file
+/// @brief SdfccdCollisionAlgorithm: Bullet's per-pair entry point for SdfccdShape pairs (paper Section 5);
+/// the work is done by SdfccdContactSystem::processPair.
+///
+/// @details One instance per overlapping pair, pool-allocated by the dispatcher. It holds only two pointers
+/// and two flags (its size is checked at compile time against Bullet's smallest built-in algorithm that
+/// sets the pool's element size), so it always fits the collision algorithm pool; scratch memory lives in
+/// the contact system. It owns one persistent manifold through which contacts are reported.
+#pragma once
+
+#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
+
+namespace sdfccd {
+
+class SdfccdContactSystem;
+
+class SdfccdCollisionAlgorithm : public btCollisionAlgorithm {
+ public:
+  SdfccdCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* wrap0,
+                           const btCollisionObjectWrapper* wrap1, SdfccdContactSystem* system,
+                           bool closestPointsOnly);
+  ~SdfccdCollisionAlgorithm() override;
+
+  void processCollision(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
+                        const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut) override;
+  /// Our CCD runs in processCollision; Bullet's TOI interface is not used (returns 1).
+  btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
+                                 btManifoldResult*) override {
+    return btScalar(1);
+  }
+  void getAllContactManifolds(btManifoldArray& manifoldArray) override;
+
+  /// Creates SdfccdCollisionAlgorithm for one dispatcher entry.
+  struct CreateFunc : public btCollisionAlgorithmCreateFunc {
+    CreateFunc(SdfccdContactSystem* system, bool closestPointsOnly)
+        : m_system(system), m_closestPointsOnly(closestPointsOnly) {}
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& info,
+                                                   const btCollisionObjectWrapper* wrap0,
+                                                   const btCollisionObjectWrapper* wrap1) override;
+    SdfccdContactSystem* m_system;
+    bool m_closestPointsOnly;
+  };
+
+ private:
+  SdfccdContactSystem* m_system;
+  btPersistentManifold* m_manifold = nullptr;
+  bool m_closestPointsOnly;
+};
+
+}  // namespace sdfccd

@@ -1,0 +1,163 @@
+/// @file
+/// @brief SdfccdContactSystem: the continuous penalty contact of Section 4.1 inside Bullet's step, with
+/// time-of-impact clamping against tunnelling; and registerSdfccdAlgorithms(), the one call that installs it.
+///
+/// @details Where each part runs in btDiscreteDynamicsWorld's step:
+/// 1. Narrowphase (SdfccdCollisionAlgorithm -> processPair): for each pair, each body in each role (shell of
+///    A vs field of B, then shell of B vs field of A; a btStaticPlaneShape is an analytic PlaneField and only
+///    a field), the rigid CCD runs over the step's motion: start = the body's current transform, end = its
+///    motion integrated over the step from the velocity *plus* the forces Bullet will add (gravity and
+///    applied forces, the same symplectic Euler step integrateVelocities/integrateTransforms perform), which
+///    is the actual end of the step because our contacts add no solver rows. (getInterpolationWorldTransform
+///    at this point omits gravity: it is off by g dt^2.) The continuous penalty model integrates impulse and
+///    angular impulse over the contact sub-intervals (eqs. 3-4) — or the discrete model at the end pose.
+/// 2. After integration (this object is a btActionInterface; updateAction runs after integrateTransforms):
+///    time-of-impact clamping first, then the penalty impulses I and M are applied to the velocities. That
+///    is eq. (5): the averaged force F* = I/dt acting over the next step, applied as the impulse F* dt at its
+///    start (forces applied with applyCentralForce would accumulate over substeps until clearForces).
+/// 3. Time-of-impact clamping (beyond the paper): averaged penalty forces act one step late and cannot stop a
+///    fast body at a thin wall. When a shell point *entered* the contact set during the step (state Hit) and
+///    either left it again before the step's end (it passed through) or ends deeper than
+///    toiDepthCells cells, the pair "clamps": every dynamic body of the pair is moved back to its pose at the
+///    earliest such first-hit fraction (translation lerped, rotation slerped along the step's motion), an
+///    inelastic impulse at the first-contact point removes the approaching normal velocity, and the pair's
+///    penalty impulses of that step are dropped. Resting and sliding contact (points that start inside, or
+///    shallow entries) are left to the penalty forces. Only the continuous model clamps: the discrete model
+///    is the baseline and may tunnel.
+/// Contacts are visible to users as manifold points (at most 4 per pair, the deepest at the step's end,
+/// normal on B, negative distance) and through lastStepContacts(). The solver never answers them twice: our
+/// manifolds get a contact processing threshold of -BT_LARGE_FLOAT, and Bullet's solvers only turn points
+/// with distance <= that threshold into constraints.
+/// Sleeping: bodies may sleep by Bullet's velocity thresholds; a body that receives an impulse is woken.
+///
+/// Thread safety: one system per world; the narrowphase must be single threaded (btDiscreteDynamicsWorld,
+/// not btDiscreteDynamicsWorldMt). Models are shared read-only.
+#pragma once
+
+#include <BulletDynamics/Dynamics/btActionInterface.h>
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "sdfccd/math_types.h"
+#include "sdfccd/penalty_model.h"
+#include "sdfccd/rigid_ccd.h"
+
+class btCollisionDispatcher;
+class btCollisionObject;
+class btCollisionObjectWrapper;
+class btCollisionAlgorithmCreateFunc;
+class btDiscreteDynamicsWorld;
+class btManifoldResult;
+class btPersistentManifold;
+struct btDispatcherInfo;
+
+namespace sdfccd {
+
+class SdfccdShape;
+
+/// Settings of the contact model, shared by every pair of one world.
+struct SdfccdContactSettings {
+  PenaltySettings penalty;            ///< model (continuous/discrete), stiffness, damping, subintervals, flags
+  bool timeOfImpactClamp = true;      ///< continuous model only: clamp bodies at first hits (see file comment)
+  double toiDepthCells = 0.5;         ///< clamp when an entering point ends deeper than this (field cells)
+  bool useTree = true;                ///< point tree (true) or point by point (the linear baseline)
+  OctreeMode octree = OctreeMode::Full;  ///< cell skipping in grid fields
+  int maxManifoldPoints = 4;          ///< manifold points reported per pair (0..4)
+};
+
+/// One (shell body, field body) role of a pair over the last step: the contact report.
+struct SdfccdPairContact {
+  const btCollisionObject* shellObject = nullptr;
+  const btCollisionObject* fieldObject = nullptr;
+  int contactCount = 0;               ///< shell points that produced a force
+  double maxPenetration = 0.0;        ///< model units
+  double maxPenetrationCells = 0.0;   ///< in cells of the field (a plane: of the shell body's field)
+  Vec3 forceOnShell = Vec3::Zero();   ///< eq. (5) average over the step (N), world
+  Vec3 torqueOnShell = Vec3::Zero();  ///< N m, about the shell body's centre of mass
+  Vec3 forceOnField = Vec3::Zero();   ///< N
+  Vec3 torqueOnField = Vec3::Zero();  ///< N m
+  bool clamped = false;               ///< the pair triggered time-of-impact clamping
+  double firstFraction = 1.0;         ///< earliest first hit of the step (fraction)
+};
+
+/// Counters, cumulative since construction or resetStatistics().
+struct SdfccdContactStatistics {
+  double ccdSeconds = 0.0;             ///< wall time in rigid CCD queries (s)
+  double penaltySeconds = 0.0;         ///< wall time integrating the penalty model (s)
+  std::int64_t ccdQueries = 0;         ///< rigid CCD queries (two per body pair and step)
+  std::int64_t segmentQueries = 0;     ///< segment queries inside them
+  std::int64_t clamps = 0;             ///< bodies moved back to a time of impact
+  std::int64_t unsupportedPairs = 0;   ///< processPair calls for pairs we do not handle (no contact)
+  double maxPenetrationCells = 0.0;    ///< largest penetration seen (cells)
+};
+
+class SdfccdContactSystem : public btActionInterface {
+ public:
+  explicit SdfccdContactSystem(const SdfccdContactSettings& settings = {});
+  ~SdfccdContactSystem() override;
+  SdfccdContactSystem(const SdfccdContactSystem&) = delete;
+  SdfccdContactSystem& operator=(const SdfccdContactSystem&) = delete;
+
+  const SdfccdContactSettings& settings() const { return m_settings; }
+  /// Takes effect at the next step. Throws sdfccd::Error on bad values.
+  void setSettings(const SdfccdContactSettings& settings);
+
+  /// Overwrites every dispatcher entry involving CUSTOM_CONCAVE_SHAPE_TYPE (see sdfccd_shape.h). The
+  /// create functions are owned by this object: keep it alive as long as the dispatcher.
+  void registerWith(btCollisionDispatcher& dispatcher);
+
+  /// btActionInterface: clamping and impulses after integrateTransforms (see the file comment).
+  void updateAction(btCollisionWorld* world, btScalar timeStep) override;
+  void debugDraw(btIDebugDraw*) override {}
+
+  /// The roles that had contact in the last completed step.
+  const std::vector<SdfccdPairContact>& lastStepContacts() const { return m_lastContacts; }
+  /// Total contact points and largest penetration (cells) of the last completed step.
+  int lastStepContactCount() const { return m_lastContactCount; }
+  double lastStepMaxPenetrationCells() const { return m_lastMaxPenetrationCells; }
+  int lastStepClamps() const { return m_lastClamps; }
+  const SdfccdContactStatistics& statistics() const { return m_stats; }
+  void resetStatistics() { m_stats = {}; }
+
+  /// Called by SdfccdCollisionAlgorithm. `closestPointsOnly`: a contactTest query: report the points inside
+  /// at the current poses, change nothing.
+  void processPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
+                   const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut, btPersistentManifold* manifold,
+                   bool closestPointsOnly);
+
+ private:
+  struct BodyStep;
+  struct Record;
+  struct Role;
+  BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep);
+  template <class Field>
+  void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
+                   btManifoldResult* resultOut, bool closestPointsOnly);
+
+  SdfccdContactSettings m_settings;
+  std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
+  std::vector<BodyStep> m_bodies;
+  std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
+  std::vector<Record> m_records;
+  std::vector<SdfccdPairContact> m_lastContacts;
+  RigidCcdResult m_scratch;
+  int m_lastContactCount = 0;
+  double m_lastMaxPenetrationCells = 0.0;
+  int m_lastClamps = 0;
+  SdfccdContactStatistics m_stats;
+};
+
+/// Creates a contact system, registers its algorithms with `dispatcher` (every pair involving our shape
+/// type, both orders, contacts and closest points) and returns it. Add it to the dynamics world with
+/// `world.addAction(system.get())` — or use the overload below, which does both.
+std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
+                                                              const SdfccdContactSettings& settings = {});
+/// Registers with the world's dispatcher (must be a btCollisionDispatcher) and adds the system as an action.
+/// Remove it with world.removeAction() before destroying it if the world outlives it.
+std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamicsWorld* world,
+                                                              const SdfccdContactSettings& settings = {});
+
+}  // namespace sdfccd

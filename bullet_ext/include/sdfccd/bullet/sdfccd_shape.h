@@ -1,0 +1,64 @@
+/// @file
+/// @brief SdfccdShape: the Bullet collision shape of a body that carries a point shell and a distance field
+/// (paper Section 5: "each bunny carries a pointshell and a signed distance field").
+///
+/// @details The shape holds a shared, immutable SdfccdBodyModel; any number of shapes and bodies may share
+/// one model. Contacts come from SdfccdCollisionAlgorithm (sdfccd_collision_algorithm.h), registered with
+/// registerSdfccdAlgorithms().
+///
+/// Shape type, chosen knowingly: CUSTOM_CONCAVE_SHAPE_TYPE (29), with btConcaveShape as the base class.
+/// - Bullet casts a concave-range shape to btConcaveShape in rayTest, convexSweepTest and debug drawing and
+///   calls processAllTriangles(): this shape serves its mesh's triangles there, so ray casts, sweeps and
+///   debug drawing work on the true (concave) surface. A convex-range id would make Bullet treat the shape as
+///   a convex support mapping, which a bowl or a bunny is not.
+/// - 29 is also SDF_SHAPE_PROXYTYPE: Bullet's default convex-vs-concave algorithm would cast this shape to
+///   btSdfCollisionShape. registerSdfccdAlgorithms() therefore overwrites *every* dispatcher entry that
+///   involves type 29, both orders, for contacts and closest points: (ours, ours) and (ours, static plane)
+///   get our algorithm; every other pair gets btEmptyAlgorithm (no contact; counted in the contact system's
+///   statistics). Consequence: btSdfCollisionShape cannot be used in the same world.
+/// - Bullet's own swept-sphere CCD runs only for convex shapes, so it never interferes with ours.
+///
+/// Scaling: uniform scale is baked into the model when it is built (SdfccdBodyModelSettings::scale);
+/// setLocalScaling() accepts only (1, 1, 1) and throws sdfccd::Error otherwise.
+#pragma once
+
+#include <BulletCollision/CollisionShapes/btConcaveShape.h>
+
+#include <memory>
+
+#include "sdfccd/bullet/sdfccd_body_model.h"
+
+namespace sdfccd {
+
+ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
+ public:
+  BT_DECLARE_ALIGNED_ALLOCATOR();
+
+  /// Throws sdfccd::Error if `model` is null.
+  explicit SdfccdShape(std::shared_ptr<const SdfccdBodyModel> model);
+
+  const SdfccdBodyModel& model() const { return *m_model; }
+  const std::shared_ptr<const SdfccdBodyModel>& modelPtr() const { return m_model; }
+
+  void getAabb(const btTransform& worldFromBody, btVector3& aabbMin, btVector3& aabbMax) const override;
+  /// Throws sdfccd::Error unless `scaling` is (1, 1, 1): scale the model instead.
+  void setLocalScaling(const btVector3& scaling) override;
+  const btVector3& getLocalScaling() const override { return m_localScaling; }
+  /// The principal moments of the mesh's solid for `mass` (the body frame is the principal frame).
+  void calculateLocalInertia(btScalar mass, btVector3& inertia) const override;
+  const char* getName() const override { return "SdfccdShape"; }
+  /// The mesh triangles whose box overlaps [aabbMin, aabbMax] (body frame): ray tests, sweeps, debug draw.
+  void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin,
+                           const btVector3& aabbMax) const override;
+
+ private:
+  std::shared_ptr<const SdfccdBodyModel> m_model;
+  btVector3 m_localScaling{1, 1, 1};
+  btVector3 m_localAabbMin;
+  btVector3 m_localAabbMax;
+};
+
+/// True when `shape` is an SdfccdShape (type 29 and our name: btSdfCollisionShape shares the type id).
+bool isSdfccdShape(const btCollisionShape* shape);
+
+}  // namespace sdfccd

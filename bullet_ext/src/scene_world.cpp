@@ -1,0 +1,290 @@
+/// @file
+/// @brief SceneWorld (see scene_world.h).
+#include "sdfccd/bullet/scene_world.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/error.h"
+#include "sdfccd/procedural_meshes.h"
+
+namespace sdfccd {
+
+/// Bullet's objects, owned together and destroyed in the right order.
+struct SceneWorldBullet {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  ~SceneWorldBullet() {
+    for (auto& b : bodies) world.removeRigidBody(b.get());
+  }
+};
+
+struct SceneWorld::Plate {
+  Vec3 center = Vec3::Zero();
+  Vec3 normal = Vec3::UnitY();
+  Vec3 axisU = Vec3::UnitX(), axisV = Vec3::UnitZ();
+  double halfU = 0.0, halfV = 0.0;
+  std::vector<int> startSide;  // per body: sign of normal . (com - center)
+};
+
+namespace {
+
+Vec3 toVec3(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
+
+TriangleMesh primitiveMesh(const ScenePrimitive& p) {
+  if (p.type == "box") return makeBox(p.halfExtents);
+  if (p.type == "sphere") return makeIcosphere(p.radius, p.subdivisions);
+  if (p.type == "cylinder") return makeCylinder(p.radius, p.height);
+  LathedBowlSettings bowl;
+  const double factor = p.radius / bowl.rimRadius;
+  bowl.rimRadius = p.radius;
+  bowl.height = p.height;
+  bowl.wall *= factor;
+  bowl.footRadius *= factor;
+  bowl.footHeight *= factor;
+  return makeLathedBowl(bowl);
+}
+
+std::string modelKey(const SceneBody& b) {
+  std::ostringstream key;
+  key.precision(17);
+  key << b.mesh << "|" << b.sdf << "|" << b.shell << "|" << b.scale << "|" << b.points << "|" << b.resolution << "|"
+      << b.padding;
+  if (b.primitive) {
+    const ScenePrimitive& p = *b.primitive;
+    key << "|" << p.type << " " << p.halfExtents.transpose() << " " << p.radius << " " << p.height << " "
+        << p.subdivisions;
+  }
+  return key.str();
+}
+
+}  // namespace
+
+SdfccdContactSettings contactSettingsFor(const Scene& scene) {
+  SdfccdContactSettings s;
+  s.penalty.model = scene.contact.model;
+  s.penalty.stiffness = scene.contact.stiffness;
+  s.penalty.damping = scene.contact.damping;
+  s.penalty.subintervals = scene.contact.subintervals;
+  s.penalty.enableDamping = scene.has("damping");
+  s.penalty.enableRotation = scene.has("rotation");
+  s.timeOfImpactClamp = scene.contact.timeOfImpactClamp;
+  s.toiDepthCells = scene.contact.toiDepthCells;
+  s.useTree = scene.contact.useTree;
+  return s;
+}
+
+SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) : m_scene(scene) {
+  if (settings.model) m_scene.contact.model = *settings.model;
+  if (settings.timestep) {
+    if (!(*settings.timestep > 0) || !std::isfinite(*settings.timestep)) throw Error("timestep must be positive");
+    m_scene.timestep = *settings.timestep;
+  }
+  if (settings.stiffness) {
+    if (!(*settings.stiffness > 0) || !std::isfinite(*settings.stiffness)) throw Error("stiffness must be positive");
+    m_scene.contact.stiffness = *settings.stiffness;
+  }
+  if (settings.timeOfImpactClamp) m_scene.contact.timeOfImpactClamp = *settings.timeOfImpactClamp;
+  if (settings.useTree) m_scene.contact.useTree = *settings.useTree;
+
+  // Models: one per distinct mesh + parameters.
+  std::map<std::string, std::shared_ptr<const SdfccdBodyModel>> shared;
+  std::size_t built = 0;
+  for (const SceneBody& b : m_scene.bodies) {
+    const std::string key = modelKey(b);
+    auto found = shared.find(key);
+    if (found == shared.end()) {
+      SdfccdBodyModelSettings ms;
+      ms.resolution = b.resolution;
+      ms.padding = b.padding;
+      ms.points = b.points;
+      ms.scale = b.scale;
+      ms.threads = settings.threads;
+      ms.cacheDir = settings.cacheDir;
+      std::shared_ptr<const SdfccdBodyModel> model;
+      if (b.primitive) {
+        model = SdfccdBodyModel::buildFromMesh(primitiveMesh(*b.primitive), ms);
+      } else if (!b.sdf.empty()) {
+        model = SdfccdBodyModel::loadFromFiles(b.mesh, b.sdf, b.shell, ms);
+      } else {
+        model = SdfccdBodyModel::buildFromMeshFile(b.mesh, ms);
+      }
+      found = shared.emplace(key, model).first;
+    }
+    m_models.push_back(found->second);
+    ++built;
+    if (settings.buildProgress) settings.buildProgress(double(built) / double(m_scene.bodies.size()));
+  }
+
+  m_bullet = std::make_unique<SceneWorldBullet>();
+  m_world = &m_bullet->world;
+  m_world->setGravity(m_scene.has("gravity") ? toBt(m_scene.gravity) : btVector3(0, 0, 0));
+  m_contacts = registerSdfccdAlgorithms(m_world, contactSettingsFor(m_scene));
+
+  if (m_scene.has("ground")) {
+    auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(m_scene.groundHeight));
+    btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
+    auto ground = std::make_unique<btRigidBody>(info);
+    m_world->addRigidBody(ground.get());
+    m_bullet->shapes.push_back(std::move(plane));
+    m_bullet->bodies.push_back(std::move(ground));
+  }
+  for (std::size_t i = 0; i < m_scene.bodies.size(); ++i) {
+    const SceneBody& b = m_scene.bodies[i];
+    const SdfccdBodyModel& model = *m_models[i];
+    auto shape = std::make_unique<SdfccdShape>(m_models[i]);
+    Rigid worldFromModel = Rigid::Identity();
+    worldFromModel.linear() = b.orientation.toRotationMatrix();
+    worldFromModel.translation() = b.position;
+    const Rigid worldFromBody = worldFromModel * model.modelFromBody();
+    const Quat q(worldFromBody.linear());
+    btTransform start(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
+                      toBt(Vec3(worldFromBody.translation())));
+    const btScalar mass = b.isStatic ? btScalar(0) : btScalar(b.mass);
+    btVector3 inertia(0, 0, 0);
+    if (!b.isStatic) shape->calculateLocalInertia(mass, inertia);
+    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape.get(), inertia);
+    info.m_startWorldTransform = start;
+    auto body = std::make_unique<btRigidBody>(info);
+    if (!b.isStatic) {
+      body->setLinearVelocity(toBt(b.velocity));
+      if (m_scene.has("rotation")) {
+        body->setAngularVelocity(toBt(b.angularVelocity));
+      } else {
+        body->setAngularFactor(btVector3(0, 0, 0));  // no rotation effect: the bodies only translate
+      }
+    }
+    m_world->addRigidBody(body.get());
+    m_bodies.push_back(body.get());
+    m_bullet->shapes.push_back(std::move(shape));
+    m_bullet->bodies.push_back(std::move(body));
+  }
+
+  // Thin static bodies, for the tunnelling check.
+  for (std::size_t i = 0; i < m_scene.bodies.size(); ++i) {
+    if (!m_scene.bodies[i].isStatic) continue;
+    const Vec3 size = m_models[i]->boundsInBody().sizes();
+    int axes[3] = {0, 1, 2};
+    std::sort(axes, axes + 3, [&](int a, int b) { return size[a] < size[b]; });
+    if (!(size[axes[0]] < 0.25 * size[axes[1]])) continue;
+    const SceneBodyState s = bodyState(static_cast<int>(i));
+    const Mat3 r = s.orientation.toRotationMatrix();
+    Plate plate;
+    plate.center = s.position + r * m_models[i]->boundsInBody().center();
+    plate.normal = r.col(axes[0]);
+    plate.axisU = r.col(axes[1]);
+    plate.axisV = r.col(axes[2]);
+    plate.halfU = 0.5 * size[axes[1]];
+    plate.halfV = 0.5 * size[axes[2]];
+    for (int j = 0; j < bodyCount(); ++j) {
+      plate.startSide.push_back(plate.normal.dot(bodyState(j).position - plate.center) >= 0 ? 1 : -1);
+    }
+    m_plates.push_back(plate);
+  }
+}
+
+SceneWorld::~SceneWorld() {
+  if (m_world != nullptr && m_contacts) m_world->removeAction(m_contacts.get());
+  m_bullet.reset();
+}
+
+void SceneWorld::step() {
+  const double ccdBefore = m_contacts->statistics().ccdSeconds;
+  const auto start = std::chrono::steady_clock::now();
+  m_world->stepSimulation(btScalar(m_scene.timestep), 0);
+  const double stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ++m_frame;
+  m_last.time = time();
+  m_last.contacts = m_contacts->lastStepContactCount();
+  m_last.penetrationCells = m_contacts->lastStepMaxPenetrationCells();
+  m_last.ccdSeconds = m_contacts->statistics().ccdSeconds - ccdBefore;
+  m_last.stepSeconds = stepSeconds;
+  m_last.clamps = m_contacts->lastStepClamps();
+  m_maxPenetrationCells = std::max(m_maxPenetrationCells, m_last.penetrationCells);
+  m_ccdSeconds += m_last.ccdSeconds;
+  m_stepSeconds += stepSeconds;
+  m_clamps += m_last.clamps;
+}
+
+SceneBodyState SceneWorld::bodyState(int i) const {
+  const btRigidBody& b = *m_bodies[static_cast<std::size_t>(i)];
+  SceneBodyState s;
+  const btTransform& t = b.getWorldTransform();
+  s.position = toVec3(t.getOrigin());
+  const btQuaternion q = t.getRotation();
+  s.orientation = Quat(q.w(), q.x(), q.y(), q.z());
+  s.linearVelocity = toVec3(b.getLinearVelocity());
+  s.angularVelocity = toVec3(b.getAngularVelocity());
+  return s;
+}
+
+double SceneWorld::kineticEnergy() const {
+  double energy = 0.0;
+  for (int i = 0; i < bodyCount(); ++i) {
+    if (isStatic(i)) continue;
+    const btRigidBody& b = *m_bodies[static_cast<std::size_t>(i)];
+    const double mass = 1.0 / double(b.getInvMass());
+    const Vec3 v = toVec3(b.getLinearVelocity());
+    const Vec3 wInBody = toVec3(b.getAngularVelocity() * b.getWorldTransform().getBasis());
+    const Vec3 inertia = model(i).principalInertia(mass);
+    energy += 0.5 * mass * v.squaredNorm() + 0.5 * wInBody.dot(inertia.cwiseProduct(wInBody));
+  }
+  return energy;
+}
+
+bool SceneWorld::hasNonFinite() const {
+  for (int i = 0; i < bodyCount(); ++i) {
+    const SceneBodyState s = bodyState(i);
+    if (!s.position.allFinite() || !s.orientation.coeffs().allFinite() || !s.linearVelocity.allFinite() ||
+        !s.angularVelocity.allFinite()) {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<std::string> SceneWorld::tunneledBodies() const {
+  std::vector<std::string> out;
+  for (int i = 0; i < bodyCount(); ++i) {
+    if (isStatic(i)) continue;
+    const Vec3 com = bodyState(i).position;
+    bool tunneled = m_scene.has("ground") && com.y() < m_scene.groundHeight;
+    for (const Plate& p : m_plates) {
+      const Vec3 d = com - p.center;
+      const int side = p.normal.dot(d) >= 0 ? 1 : -1;
+      if (side != p.startSide[static_cast<std::size_t>(i)] && std::abs(p.axisU.dot(d)) <= p.halfU &&
+          std::abs(p.axisV.dot(d)) <= p.halfV) {
+        tunneled = true;
+      }
+    }
+    if (tunneled) out.push_back(bodyName(i));
+  }
+  return out;
+}
+
+std::uint64_t SceneWorld::stateHash() const {
+  std::string bytes;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const btRigidBody& b = *m_bodies[static_cast<std::size_t>(i)];
+    const btTransform& t = b.getWorldTransform();
+    const btQuaternion q = t.getRotation();
+    const btScalar values[13] = {t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z(), q.w(), q.x(), q.y(), q.z(),
+                                 b.getLinearVelocity().x(), b.getLinearVelocity().y(), b.getLinearVelocity().z(),
+                                 b.getAngularVelocity().x(), b.getAngularVelocity().y(), b.getAngularVelocity().z()};
+    bytes.append(reinterpret_cast<const char*>(values), sizeof values);
+  }
+  return fnv1a64(bytes);
+}
+
+}  // namespace sdfccd

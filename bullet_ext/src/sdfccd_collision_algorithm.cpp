@@ -1,0 +1,50 @@
+/// @file
+/// @brief SdfccdCollisionAlgorithm (see sdfccd_collision_algorithm.h).
+#include "sdfccd/bullet/sdfccd_collision_algorithm.h"
+
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btConvexConvexAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+
+namespace sdfccd {
+
+// The dispatcher's pool element size is the largest built-in algorithm; btConvexConvexAlgorithm is among
+// them, so anything no larger always fits (Bullet checks this only with a debug assert).
+static_assert(sizeof(SdfccdCollisionAlgorithm) <= sizeof(btConvexConvexAlgorithm),
+              "SdfccdCollisionAlgorithm must fit Bullet's collision algorithm pool");
+
+SdfccdCollisionAlgorithm::SdfccdCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& info,
+                                                   const btCollisionObjectWrapper* wrap0,
+                                                   const btCollisionObjectWrapper* wrap1, SdfccdContactSystem* system,
+                                                   bool closestPointsOnly)
+    : btCollisionAlgorithm(info), m_system(system), m_closestPointsOnly(closestPointsOnly) {
+  m_manifold = m_dispatcher->getNewManifold(wrap0->getCollisionObject(), wrap1->getCollisionObject());
+  // The solver turns only points with distance <= this threshold into constraints: ours stay reports.
+  m_manifold->setContactProcessingThreshold(-BT_LARGE_FLOAT);
+}
+
+SdfccdCollisionAlgorithm::~SdfccdCollisionAlgorithm() {
+  if (m_manifold != nullptr) m_dispatcher->releaseManifold(m_manifold);
+}
+
+void SdfccdCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* wrap0,
+                                                const btCollisionObjectWrapper* wrap1,
+                                                const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut) {
+  m_system->processPair(wrap0, wrap1, dispatchInfo, resultOut, m_manifold, m_closestPointsOnly);
+}
+
+void SdfccdCollisionAlgorithm::getAllContactManifolds(btManifoldArray& manifoldArray) {
+  if (m_manifold != nullptr) manifoldArray.push_back(m_manifold);
+}
+
+btCollisionAlgorithm* SdfccdCollisionAlgorithm::CreateFunc::CreateCollisionAlgorithm(
+    btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* wrap0,
+    const btCollisionObjectWrapper* wrap1) {
+  void* memory = info.m_dispatcher1->allocateCollisionAlgorithm(sizeof(SdfccdCollisionAlgorithm));
+  return new (memory) SdfccdCollisionAlgorithm(info, wrap0, wrap1, m_system, m_closestPointsOnly);
+}
+
+}  // namespace sdfccd

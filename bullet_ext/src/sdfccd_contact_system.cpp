@@ -1,0 +1,437 @@
+/// @file
+/// @brief SdfccdContactSystem: CCD + continuous penalty per pair, clamping and impulses per step
+/// (Section 4.1 and 5; see sdfccd_contact_system.h).
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btTransformUtil.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "sdfccd/analytic_fields.h"
+#include "sdfccd/bullet/sdfccd_collision_algorithm.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/error.h"
+#include "sdfccd/grid_field.h"
+
+namespace sdfccd {
+namespace {
+
+Vec3 toVec3(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
+
+Rigid toRigid(const btTransform& t) {
+  Rigid r = Rigid::Identity();
+  const btQuaternion q = t.getRotation();
+  r.linear() = Quat(q.w(), q.x(), q.y(), q.z()).normalized().toRotationMatrix();
+  r.translation() = toVec3(t.getOrigin());
+  return r;
+}
+
+btTransform toBt(const Rigid& r) {
+  const Quat q(r.linear());
+  return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
+                     toBt(Vec3(r.translation())));
+}
+
+/// The pose at fraction t of the step: translation lerped, rotation slerped.
+Rigid interpolatePose(const Rigid& start, const Rigid& end, double t) {
+  Rigid r = Rigid::Identity();
+  r.linear() = Quat(start.linear()).slerp(t, Quat(end.linear())).toRotationMatrix();
+  r.translation() = start.translation() + t * (end.translation() - start.translation());
+  return r;
+}
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+bool isPlane(const btCollisionShape* shape) { return shape->getShapeType() == STATIC_PLANE_PROXYTYPE; }
+
+}  // namespace
+
+/// The motion of one collision object over the current step.
+struct SdfccdContactSystem::BodyStep {
+  const btCollisionObject* object = nullptr;
+  btRigidBody* body = nullptr;  // null unless a dynamic rigid body
+  Rigid worldFromBodyStart = Rigid::Identity();
+  Rigid worldFromBodyEnd = Rigid::Identity();
+  PenaltyBodyMotion motion;
+  double clampFraction = 1.0;
+  bool clamped = false;
+};
+
+/// One role of one pair over the current step.
+struct SdfccdContactSystem::Record {
+  std::size_t shell = 0;  // indices into m_bodies
+  std::size_t field = 0;
+  PenaltyResult penalty;
+  double maxPenetrationCells = 0.0;
+  double firstFraction = 1.0;
+  bool clamp = false;
+  double clampFraction = 1.0;
+  Vec3 clampNormal = Vec3::Zero();  // world, out of the field body
+  Vec3 clampPoint = Vec3::Zero();   // world, the first-contact point at the clamp fraction
+};
+
+/// Who is the shell and who the field in one role.
+struct SdfccdContactSystem::Role {
+  std::size_t shell = 0;
+  std::size_t field = 0;
+  const SdfccdShape* shellShape = nullptr;
+  Rigid bodyFromField = Rigid::Identity();
+  bool shellIsBody0 = true;
+};
+
+SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings) { setSettings(settings); }
+
+SdfccdContactSystem::~SdfccdContactSystem() = default;
+
+void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
+  const PenaltySettings& p = settings.penalty;
+  if (!(p.stiffness >= 0.0) || !std::isfinite(p.stiffness) || !(p.damping >= 0.0) || !std::isfinite(p.damping) ||
+      p.subintervals < 1) {
+    throw Error("contact settings: stiffness and damping must be finite and >= 0, subintervals >= 1");
+  }
+  if (!(settings.toiDepthCells >= 0.0) || !std::isfinite(settings.toiDepthCells)) {
+    throw Error("contact settings: toiDepthCells must be finite and >= 0");
+  }
+  if (settings.maxManifoldPoints < 0 || settings.maxManifoldPoints > 4) {
+    throw Error("contact settings: maxManifoldPoints must be in 0..4");
+  }
+  m_settings = settings;
+}
+
+void SdfccdContactSystem::registerWith(btCollisionDispatcher& dispatcher) {
+  m_createFuncs.clear();
+  m_createFuncs.push_back(std::make_unique<SdfccdCollisionAlgorithm::CreateFunc>(this, false));
+  m_createFuncs.push_back(std::make_unique<SdfccdCollisionAlgorithm::CreateFunc>(this, true));
+  m_createFuncs.push_back(std::make_unique<btEmptyAlgorithm::CreateFunc>());
+  btCollisionAlgorithmCreateFunc* contacts = m_createFuncs[0].get();
+  btCollisionAlgorithmCreateFunc* closest = m_createFuncs[1].get();
+  btCollisionAlgorithmCreateFunc* empty = m_createFuncs[2].get();
+  const int ours = CUSTOM_CONCAVE_SHAPE_TYPE;
+  for (int other = 0; other < MAX_BROADPHASE_COLLISION_TYPES; ++other) {
+    const bool supported = other == ours || other == STATIC_PLANE_PROXYTYPE;
+    dispatcher.registerCollisionCreateFunc(ours, other, supported ? contacts : empty);
+    dispatcher.registerCollisionCreateFunc(other, ours, supported ? contacts : empty);
+    dispatcher.registerClosestPointsCreateFunc(ours, other, supported ? closest : empty);
+    dispatcher.registerClosestPointsCreateFunc(other, ours, supported ? closest : empty);
+  }
+}
+
+SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionObjectWrapper* wrap, double timeStep) {
+  const btCollisionObject* object = wrap->getCollisionObject();
+  const auto found = m_bodyIndex.find(object);
+  if (found != m_bodyIndex.end()) return m_bodies[found->second];
+  BodyStep step;
+  step.object = object;
+  const btTransform start = wrap->getWorldTransform();
+  btTransform end = start;
+  const btRigidBody* rigid = btRigidBody::upcast(object);
+  if (rigid != nullptr && !rigid->isStaticOrKinematicObject()) {
+    step.body = const_cast<btRigidBody*>(rigid);  // impulses are applied later, in updateAction
+    // The symplectic Euler step Bullet's integrateVelocities + integrateTransforms will take (no contact
+    // constraints come from us): v' = v + F/m dt, w' = w + I^-1 tau dt, then the pose from (v', w').
+    const btVector3 v0 = rigid->getLinearVelocity();
+    const btVector3 w0 = rigid->getAngularVelocity();
+    btVector3 v1 = v0;
+    btVector3 w1 = w0;
+    if (rigid->isActive()) {
+      v1 += rigid->getTotalForce() * (rigid->getInvMass() * btScalar(timeStep));
+      w1 += rigid->getInvInertiaTensorWorld() * rigid->getTotalTorque() * btScalar(timeStep);
+    }
+    btTransformUtil::integrateTransform(start, v1, w1, btScalar(timeStep), end);
+    step.motion.linearVelocityStart = toVec3(v0);
+    step.motion.linearVelocityEnd = toVec3(v1);
+    step.motion.angularVelocityStart = toVec3(w0);
+    step.motion.angularVelocityEnd = toVec3(w1);
+  } else if (rigid != nullptr && rigid->isKinematicObject()) {
+    const btVector3 v = rigid->getLinearVelocity();
+    const btVector3 w = rigid->getAngularVelocity();
+    btTransformUtil::integrateTransform(start, v, w, btScalar(timeStep), end);
+    step.motion.linearVelocityStart = step.motion.linearVelocityEnd = toVec3(v);
+    step.motion.angularVelocityStart = step.motion.angularVelocityEnd = toVec3(w);
+  }
+  step.worldFromBodyStart = toRigid(start);
+  step.worldFromBodyEnd = toRigid(end);
+  step.motion.worldFromBodyStart = step.worldFromBodyStart;
+  step.motion.worldFromBodyEnd = step.worldFromBodyEnd;
+  m_bodyIndex.emplace(object, m_bodies.size());
+  m_bodies.push_back(step);
+  return m_bodies.back();
+}
+
+void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
+                                      const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut,
+                                      btPersistentManifold* manifold, bool closestPointsOnly) {
+  const btCollisionShape* shape0 = wrap0->getCollisionShape();
+  const btCollisionShape* shape1 = wrap1->getCollisionShape();
+  const bool ours0 = isSdfccdShape(shape0);
+  const bool ours1 = isSdfccdShape(shape1);
+  manifold->clearManifold();
+  resultOut->setPersistentManifold(manifold);
+  if (!(ours0 && (ours1 || isPlane(shape1))) && !(ours1 && isPlane(shape0))) {
+    ++m_stats.unsupportedPairs;  // e.g. btSdfCollisionShape, which shares our type id
+    return;
+  }
+  const double timeStep = dispatchInfo.m_timeStep > 0 ? double(dispatchInfo.m_timeStep) : 1.0 / 60.0;
+  // Closest-point queries use fresh, local body states (poses now, nothing moves).
+  std::vector<BodyStep> savedBodies;
+  std::unordered_map<const btCollisionObject*, std::size_t> savedIndex;
+  if (closestPointsOnly) {
+    savedBodies.swap(m_bodies);
+    savedIndex.swap(m_bodyIndex);
+  }
+  const std::size_t index0 = static_cast<std::size_t>(&bodyStep(wrap0, timeStep) - m_bodies.data());
+  const std::size_t index1 = static_cast<std::size_t>(&bodyStep(wrap1, timeStep) - m_bodies.data());
+
+  auto runRole = [&](std::size_t shell, std::size_t field, const btCollisionObjectWrapper* shellWrap,
+                     const btCollisionObjectWrapper* fieldWrap, bool shellIsBody0) {
+    Role role;
+    role.shell = shell;
+    role.field = field;
+    role.shellShape = static_cast<const SdfccdShape*>(shellWrap->getCollisionShape());
+    role.shellIsBody0 = shellIsBody0;
+    const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
+    const double shellCell = role.shellShape->model().cellSize();
+    if (isPlane(fieldShape)) {
+      const auto* plane = static_cast<const btStaticPlaneShape*>(fieldShape);
+      const PlaneField planeField(toVec3(plane->getPlaneNormal()), double(plane->getPlaneConstant()));
+      processRole(role, planeField, m_settings.toiDepthCells, shellCell, timeStep, resultOut, closestPointsOnly);
+    } else {
+      const SdfccdBodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
+      role.bodyFromField = fieldModel.bodyFromField();
+      processRole(role, fieldModel.field(), m_settings.toiDepthCells, fieldModel.cellSize(), timeStep, resultOut,
+                  closestPointsOnly);
+    }
+  };
+  if (ours0) runRole(index0, index1, wrap0, wrap1, true);
+  if (ours1) runRole(index1, index0, wrap1, wrap0, false);
+
+  if (closestPointsOnly) {
+    m_bodies.swap(savedBodies);
+    m_bodyIndex.swap(savedIndex);
+  }
+}
+
+template <class Field>
+void SdfccdContactSystem::processRole(const Role& role, const Field& field, double thresholdCells, double cellSize,
+                                      double timeStep, btManifoldResult* resultOut, bool closestPointsOnly) {
+  const BodyStep& shell = m_bodies[role.shell];
+  const BodyStep& fieldBody = m_bodies[role.field];
+  const SdfccdBodyModel& model = role.shellShape->model();
+  const bool discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
+
+  const Rigid worldFromFieldStart = fieldBody.worldFromBodyStart * role.bodyFromField;
+  const Rigid worldFromFieldEnd =
+      closestPointsOnly ? worldFromFieldStart : Rigid(fieldBody.worldFromBodyEnd * role.bodyFromField);
+  const Rigid& worldFromShellEnd = closestPointsOnly ? shell.worldFromBodyStart : shell.worldFromBodyEnd;
+  const Rigid sdfFromShellStart = worldFromFieldStart.inverse() * shell.worldFromBodyStart;
+  const Rigid sdfFromShellEnd = worldFromFieldEnd.inverse() * worldFromShellEnd;
+
+  RigidCcdSettings ccd;
+  ccd.sigma = m_settings.penalty.sigma;
+  ccd.mode = CcdMode::AllIntervals;
+  ccd.octree = m_settings.octree;
+  ccd.useTree = m_settings.useTree;
+  ccd.threads = 1;
+  const auto ccdStart = std::chrono::steady_clock::now();
+  // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
+  rigidCcd(model.tree(), field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, ccd, m_scratch);
+  m_stats.ccdSeconds += seconds(ccdStart);
+  ++m_stats.ccdQueries;
+  m_stats.segmentQueries += m_scratch.stats.segmentQueries;
+  if (m_scratch.contacts.empty()) return;
+
+  // Manifold points: the deepest points at the step's end, for users (the solver ignores them).
+  if (m_settings.maxManifoldPoints > 0) {
+    std::vector<std::pair<double, int>> deepest;
+    for (int i = 0; i < static_cast<int>(m_scratch.contacts.size()); ++i) {
+      if (m_scratch.contacts[static_cast<std::size_t>(i)].depthAtEnd < 0.0) {
+        deepest.emplace_back(m_scratch.contacts[static_cast<std::size_t>(i)].depthAtEnd, i);
+      }
+    }
+    const std::size_t keep = std::min(deepest.size(), static_cast<std::size_t>(m_settings.maxManifoldPoints));
+    std::partial_sort(deepest.begin(), deepest.begin() + static_cast<std::ptrdiff_t>(keep), deepest.end());
+    for (std::size_t k = 0; k < keep; ++k) {
+      const PointContact& c = m_scratch.contacts[static_cast<std::size_t>(deepest[k].second)];
+      const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
+      const Vec3 pointInWorld = worldFromShellEnd * pointInShell;
+      Vec3 gradientInWorld = worldFromFieldEnd.linear() * field.gradient(sdfFromShellEnd * pointInShell);
+      if (!(gradientInWorld.norm() > 0.0)) continue;
+      gradientInWorld.normalize();
+      const double depth = c.depthAtEnd;
+      if (role.shellIsBody0) {
+        // B is the field: its outward normal points towards A; the point on B is on the field's surface.
+        resultOut->addContactPoint(toBt(gradientInWorld), toBt(Vec3(pointInWorld - gradientInWorld * depth)),
+                                   btScalar(depth));
+      } else {
+        // B is the shell: its point is on B, and B's normal towards A is minus A's field gradient.
+        resultOut->addContactPoint(toBt(Vec3(-gradientInWorld)), toBt(pointInWorld), btScalar(depth));
+      }
+    }
+  }
+  if (closestPointsOnly) return;
+
+  PenaltyBodyMotion fieldMotion = fieldBody.motion;
+  fieldMotion.worldFromBodyStart = worldFromFieldStart;
+  fieldMotion.worldFromBodyEnd = worldFromFieldEnd;
+  fieldMotion.centerOfMassInBody = role.bodyFromField.inverse().translation();  // the body origin is the COM
+  PenaltySettings penaltySettings = m_settings.penalty;
+  const auto penaltyStart = std::chrono::steady_clock::now();
+  Record record;
+  record.shell = role.shell;
+  record.field = role.field;
+  record.penalty =
+      integratePenalty(model.shell().positions, field, m_scratch, shell.motion, fieldMotion, timeStep, penaltySettings);
+  m_stats.penaltySeconds += seconds(penaltyStart);
+  record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
+  record.firstFraction = m_scratch.firstFraction;
+
+  if (!discrete && m_settings.timeOfImpactClamp) {
+    // A point that entered during the step and went deeper than the threshold (at an interval's middle, or
+    // at the end) would be stopped too late by forces that act one step later: clamp at its first hit.
+    const double threshold = thresholdCells * cellSize;
+    for (const PointContact& c : m_scratch.contacts) {
+      if (c.state != SegmentState::Hit || !(c.fraction > 0.0) || c.intervals.empty()) continue;
+      const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
+      const Vec3 p0 = sdfFromShellStart * pointInShell;
+      const Vec3 p1 = sdfFromShellEnd * pointInShell;
+      double deepest = c.depthAtEnd;
+      for (std::size_t i = 0; i < c.intervals.size(); ++i) {
+        const double t = 0.5 * (c.intervals[i].begin + c.intervals[i].end);
+        deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - ccd.sigma);
+      }
+      if (!(deepest < -threshold) || !(c.fraction < record.clampFraction)) continue;
+      record.clamp = true;
+      record.clampFraction = c.fraction;
+      record.clampNormal = (worldFromFieldStart.linear() * c.fieldNormalInSdf).normalized();
+      const Vec3 startInWorld = shell.worldFromBodyStart * pointInShell;
+      record.clampPoint = startInWorld + c.fraction * (shell.worldFromBodyEnd * pointInShell - startInWorld);
+    }
+    if (record.clamp && !record.clampNormal.allFinite()) record.clamp = false;
+  }
+  m_records.push_back(record);
+}
+
+void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
+  m_lastContacts.clear();
+  m_lastContactCount = 0;
+  m_lastMaxPenetrationCells = 0.0;
+  m_lastClamps = 0;
+
+  // 1. Time-of-impact clamping: each dynamic body goes back to its earliest clamp fraction.
+  for (const Record& r : m_records) {
+    if (!r.clamp) continue;
+    for (std::size_t side : {r.shell, r.field}) {
+      BodyStep& b = m_bodies[side];
+      if (b.body != nullptr) b.clampFraction = std::min(b.clampFraction, r.clampFraction);
+    }
+  }
+  for (BodyStep& b : m_bodies) {
+    if (b.body == nullptr || !(b.clampFraction < 1.0)) continue;
+    b.clamped = true;
+    b.body->setCenterOfMassTransform(toBt(interpolatePose(b.worldFromBodyStart, b.worldFromBodyEnd, b.clampFraction)));
+    ++m_lastClamps;
+    ++m_stats.clamps;
+  }
+  // 2. Inelastic impulses at the first-contact points remove the approaching normal velocity.
+  for (const Record& r : m_records) {
+    if (!r.clamp) continue;
+    btRigidBody* shell = m_bodies[r.shell].body;
+    btRigidBody* fieldBody = m_bodies[r.field].body;
+    const btVector3 normal = toBt(r.clampNormal);  // the shell may move along +normal relative to the field
+    const btVector3 point = toBt(r.clampPoint);
+    btVector3 relativeVelocity(0, 0, 0);
+    btScalar denominator = 0;
+    btVector3 shellArm(0, 0, 0), fieldArm(0, 0, 0);
+    if (shell != nullptr) {
+      shellArm = point - shell->getCenterOfMassPosition();
+      relativeVelocity += shell->getVelocityInLocalPoint(shellArm);
+      denominator += shell->computeImpulseDenominator(point, normal);
+    }
+    if (fieldBody != nullptr) {
+      fieldArm = point - fieldBody->getCenterOfMassPosition();
+      relativeVelocity -= fieldBody->getVelocityInLocalPoint(fieldArm);
+      denominator += fieldBody->computeImpulseDenominator(point, normal);
+    }
+    const btScalar approach = relativeVelocity.dot(normal);
+    if (!(approach < 0) || !(denominator > 0)) continue;
+    const btVector3 impulse = normal * (-approach / denominator);
+    if (shell != nullptr) {
+      shell->applyImpulse(impulse, shellArm);
+      if (shell->getActivationState() == ISLAND_SLEEPING) shell->activate();
+    }
+    if (fieldBody != nullptr) {
+      fieldBody->applyImpulse(-impulse, fieldArm);
+      if (fieldBody->getActivationState() == ISLAND_SLEEPING) fieldBody->activate();
+    }
+  }
+  // 3. Penalty impulses (eq. 5: F* dt) of the pairs whose bodies were not moved back.
+  for (const Record& r : m_records) {
+    const bool skip = r.clamp || m_bodies[r.shell].clamped || m_bodies[r.field].clamped;
+    if (!skip) {
+      const std::pair<btRigidBody*, const PenaltyResult*> sides[2] = {{m_bodies[r.shell].body, &r.penalty},
+                                                                      {m_bodies[r.field].body, &r.penalty}};
+      for (int s = 0; s < 2; ++s) {
+        btRigidBody* body = sides[s].first;
+        if (body == nullptr) continue;
+        const Vec3& impulse = s == 0 ? r.penalty.impulseOnShell : r.penalty.impulseOnField;
+        const Vec3& angular = s == 0 ? r.penalty.angularImpulseOnShell : r.penalty.angularImpulseOnField;
+        if (impulse.isZero(0.0) && angular.isZero(0.0)) continue;
+        body->applyCentralImpulse(toBt(impulse));
+        if (!angular.isZero(0.0)) body->applyTorqueImpulse(toBt(angular));
+        if (body->getActivationState() == ISLAND_SLEEPING) body->activate();
+      }
+    }
+    SdfccdPairContact report;
+    report.shellObject = m_bodies[r.shell].object;
+    report.fieldObject = m_bodies[r.field].object;
+    report.contactCount = r.penalty.contactCount;
+    report.maxPenetration = r.penalty.maxPenetration;
+    report.maxPenetrationCells = r.maxPenetrationCells;
+    report.forceOnShell = r.penalty.forceOnShell;
+    report.torqueOnShell = r.penalty.torqueOnShell;
+    report.forceOnField = r.penalty.forceOnField;
+    report.torqueOnField = r.penalty.torqueOnField;
+    report.clamped = r.clamp;
+    report.firstFraction = r.firstFraction;
+    m_lastContacts.push_back(report);
+    m_lastContactCount += r.penalty.contactCount;
+    m_lastMaxPenetrationCells = std::max(m_lastMaxPenetrationCells, r.maxPenetrationCells);
+  }
+  m_stats.maxPenetrationCells = std::max(m_stats.maxPenetrationCells, m_lastMaxPenetrationCells);
+  m_records.clear();
+  m_bodies.clear();
+  m_bodyIndex.clear();
+}
+
+std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
+                                                              const SdfccdContactSettings& settings) {
+  if (dispatcher == nullptr) throw Error("registerSdfccdAlgorithms: the dispatcher is null");
+  auto system = std::make_shared<SdfccdContactSystem>(settings);
+  system->registerWith(*dispatcher);
+  return system;
+}
+
+std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamicsWorld* world,
+                                                              const SdfccdContactSettings& settings) {
+  if (world == nullptr) throw Error("registerSdfccdAlgorithms: the world is null");
+  auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(world->getDispatcher());
+  if (dispatcher == nullptr) throw Error("registerSdfccdAlgorithms: the world's dispatcher is not a btCollisionDispatcher");
+  auto system = registerSdfccdAlgorithms(dispatcher, settings);
+  world->addAction(system.get());
+  return system;
+}
+
+}  // namespace sdfccd
