@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
+#include "sdfccd/field_culling_bounds.h"
 #include "sdfccd/point_tree.h"
 #include "sdfccd/segment_ccd.h"
 
@@ -33,6 +34,11 @@ struct RigidCcdSettings {
   /// Optional, one byte per shell point: points with a non-zero entry are skipped (the constraint method
   /// ignores the points in contact in the last step, Section 4.2). Null: no point is skipped.
   const std::vector<std::uint8_t>* ignoredPoints = nullptr;
+  /// Gradient bound used to cull tree nodes (the node test is sigma + cullLipschitz * radius). 0: the field's
+  /// own bound (field_culling_bounds.h: 1 for analytic fields, computed from the values for grids), which
+  /// guarantees the linear query's contacts. 1 is the paper's test; it can miss contacts of a grid field
+  /// whose interpolant is steeper than 1.
+  double cullLipschitz = 0.0;
 };
 
 /// One shell point in contact during the step.
@@ -71,4 +77,12 @@ template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdResult& outResult);
 
+/// The culling test of one tree node (what the traversal uses; exposed for tests): false only when no point
+/// below `node` can reach the level set sigma during the step. Never false for a node with a colliding point.
+template <class Field>
+bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node, const Rigid& sdfFromShellStart,
+                             const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings);
+
 }  // namespace sdfccd
+
+#include "sdfccd/rigid_ccd_impl.h"

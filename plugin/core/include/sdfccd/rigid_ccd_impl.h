@@ -1,0 +1,257 @@
+/// @file
+/// @brief The template definitions of rigid_ccd.h (paper Section 3.3). Included by rigid_ccd.h only.
+///
+/// @details One traversal routine serves the serial and the threaded query. Per call, the two poses are
+/// split into rotation and translation once; the frontiers and the segment scratch are thread_local and
+/// keep their capacity, so the steady state allocates nothing per node (a contact with more than
+/// IntervalList::kInline intervals allocates its own overflow). Every point's segment is computed by the same
+/// function in the tree and the linear query, so both run bit-identical leaf queries.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sdfccd/error.h"
+#include "sdfccd/parallel_for.h"
+#include "sdfccd/rigid_ccd.h"
+
+namespace sdfccd {
+namespace detail {
+
+/// Per-thread buffers of the traversal, reused across queries.
+struct RigidCcdScratch {
+  std::vector<int> current;
+  std::vector<int> next;
+  std::vector<int> frontier;  // the threaded query's work items (the calling thread also runs tasks)
+  SegmentCcdResult segment;
+};
+
+inline RigidCcdScratch& rigidCcdScratch() {
+  thread_local RigidCcdScratch scratch;
+  return scratch;
+}
+
+/// Does segment [a, b] meet the box? (slab test)
+inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box) {
+  double t0 = 0.0;
+  double t1 = 1.0;
+  const Vec3 d = b - a;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (d[axis] == 0.0) {
+      if (a[axis] < box.min()[axis] || a[axis] > box.max()[axis]) return false;
+      continue;
+    }
+    const double inv = 1.0 / d[axis];
+    double enter = (box.min()[axis] - a[axis]) * inv;
+    double leave = (box.max()[axis] - a[axis]) * inv;
+    if (enter > leave) std::swap(enter, leave);
+    t0 = std::max(t0, enter);
+    t1 = std::min(t1, leave);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+template <class Field>
+class RigidCcdQuery {
+ public:
+  RigidCcdQuery(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
+                const RigidCcdSettings& settings)
+      : m_tree(tree),
+        m_field(field),
+        m_settings(settings),
+        m_r0(sdfFromShellStart.linear()),
+        m_r1(sdfFromShellEnd.linear()),
+        m_t0(sdfFromShellStart.translation()),
+        m_t1(sdfFromShellEnd.translation()),
+        m_bounds(fieldCullingBounds(field)) {
+    if (!m_r0.allFinite() || !m_r1.allFinite() || !m_t0.allFinite() || !m_t1.allFinite()) {
+      throw Error("rigidCcd: non-finite transform");
+    }
+    if (!std::isfinite(settings.sigma)) throw Error("rigidCcd: non-finite sigma");
+    if (settings.cullLipschitz < 0.0 || !std::isfinite(settings.cullLipschitz)) {
+      throw Error("rigidCcd: cullLipschitz must be finite and >= 0");
+    }
+    if (settings.ignoredPoints && settings.ignoredPoints->size() != static_cast<std::size_t>(tree.pointCount())) {
+      throw Error("rigidCcd: ignoredPoints must have one entry per shell point");
+    }
+    if (settings.cullLipschitz > 0.0) m_bounds.lipschitz = settings.cullLipschitz;
+    m_leaf.sigma = settings.sigma;
+    m_leaf.method = settings.method;
+    m_leaf.mode = settings.mode;
+    m_leaf.octree = settings.octree;
+    // Inner nodes only need to know whether there is a contact; the exact method never misses one.
+    m_node = m_leaf;
+    m_node.mode = CcdMode::FirstHit;
+    m_node.method = CcdMethod::Exact;
+  }
+
+  Vec3 startOf(const Vec3& pointInShell) const { return m_r0 * pointInShell + m_t0; }
+  Vec3 endOf(const Vec3& pointInShell) const { return m_r1 * pointInShell + m_t1; }
+
+  bool ignored(int point) const { return m_settings.ignoredPoints && (*m_settings.ignoredPoints)[point] != 0; }
+
+  /// The culling test of inner node `node` (see field_culling_bounds.h).
+  bool nodeMayCollide(int node, SegmentCcdResult& scratch, RigidCcdStats& stats) const {
+    const Vec3& c = m_tree.center(node);
+    const Vec3 c0 = startOf(c);
+    const Vec3 c1 = endOf(c);
+    const double rho = m_tree.radius(node);
+    // Slack against rounding: the points' segments are computed with different roundings than the centre's.
+    const double reach = m_bounds.lipschitz * rho * (1.0 + 1e-9);
+    if (m_bounds.bounded) {
+      const Box3 grown(m_bounds.box.min() - Vec3::Constant(rho), m_bounds.box.max() + Vec3::Constant(rho));
+      if (!segmentMeetsBox(c0, c1, grown)) return false;  // no point below can enter the box
+      if (m_bounds.boundaryMin - reach <= m_settings.sigma &&
+          !(m_bounds.box.contains(c0) && m_bounds.box.contains(c1))) {
+        return true;  // the centre passes outside the box near a face low enough to touch: keep (conservative)
+      }
+    }
+    SegmentCcdSettings nodeSettings = m_node;
+    nodeSettings.sigma = m_settings.sigma + reach;
+    ++stats.segmentQueries;
+    m_field.intersectSegment(c0, c1, nodeSettings, scratch);
+    return scratch.hit();
+  }
+
+  /// The query of one point; appends a contact when it touches.
+  void queryPoint(int point, SegmentCcdResult& scratch, std::vector<PointContact>& outContacts,
+                  RigidCcdStats& stats) const {
+    const Vec3& x = m_tree.shell().positions[point];
+    const Vec3 p0 = startOf(x);
+    const Vec3 p1 = endOf(x);
+    ++stats.segmentQueries;
+    m_field.intersectSegment(p0, p1, m_leaf, scratch);
+    if (!scratch.hit()) return;
+    outContacts.emplace_back();
+    PointContact& contact = outContacts.back();
+    contact.point = point;
+    contact.state = scratch.state;
+    contact.fraction = scratch.fraction;
+    contact.intervals = scratch.intervals;
+    contact.depthAtEnd = m_field.distance(p1) - m_settings.sigma;
+    contact.fieldNormalInSdf = scratch.normal;
+    contact.pointNormalInShell = m_tree.shell().normals[point];
+  }
+
+  /// Breadth-first traversal from the nodes in `current` (consumed); stops early when the frontier reaches
+  /// `stopAt` nodes (0: never), leaving it in `current`.
+  void traverse(std::vector<int>& current, std::vector<int>& next, SegmentCcdResult& scratch,
+                std::vector<PointContact>& outContacts, RigidCcdStats& stats, std::size_t stopAt) const {
+    const int* firstChild = m_tree.firstChildren().data();
+    const int* childCount = m_tree.childCounts().data();
+    while (!current.empty()) {
+      if (stopAt > 0 && current.size() >= stopAt) return;
+      next.clear();
+      for (const int node : current) {
+        if (childCount[node] == 0) {
+          const int point = m_tree.point(node);
+          if (ignored(point)) continue;
+          ++stats.nodesVisited;
+          queryPoint(point, scratch, outContacts, stats);
+          continue;
+        }
+        ++stats.nodesVisited;
+        if (!nodeMayCollide(node, scratch, stats)) continue;
+        for (int c = 0; c < childCount[node]; ++c) next.push_back(firstChild[node] + c);
+      }
+      current.swap(next);
+    }
+  }
+
+  void run(RigidCcdResult& out) const {
+    const int threads = m_settings.threads <= 0 ? defaultThreadCount() : m_settings.threads;
+    RigidCcdScratch& scratch = rigidCcdScratch();
+    if (m_settings.useTree) {
+      scratch.current.clear();
+      scratch.current.push_back(0);
+      const std::size_t split = threads > 1 ? static_cast<std::size_t>(16 * threads) : 0;
+      traverse(scratch.current, scratch.next, scratch.segment, out.contacts, out.stats, split);
+      if (!scratch.current.empty()) {
+        scratch.frontier.swap(scratch.current);
+        runParallel(scratch.frontier, threads, out);
+      }
+    } else if (threads <= 1) {
+      for (int p = 0; p < m_tree.pointCount(); ++p) {
+        if (!ignored(p)) queryPoint(p, scratch.segment, out.contacts, out.stats);
+      }
+    } else {
+      scratch.frontier.clear();
+      for (int p = 0; p < m_tree.pointCount(); ++p) {
+        if (!ignored(p)) scratch.frontier.push_back(p);
+      }
+      runParallel(scratch.frontier, threads, out);
+    }
+    std::sort(out.contacts.begin(), out.contacts.end(),
+              [](const PointContact& a, const PointContact& b) { return a.point < b.point; });
+    for (const auto& contact : out.contacts) out.firstFraction = std::min(out.firstFraction, contact.fraction);
+  }
+
+ private:
+  // Tree mode: `items` are frontier nodes, each traversed to the bottom by one task. Linear mode: points.
+  void runParallel(const std::vector<int>& items, int threads, RigidCcdResult& out) const {
+    constexpr std::size_t kLinearBlock = 256;
+    const bool tree = m_settings.useTree;
+    const std::size_t tasks = tree ? items.size() : (items.size() + kLinearBlock - 1) / kLinearBlock;
+    std::vector<std::vector<PointContact>> contacts(static_cast<std::size_t>(threads));
+    std::vector<RigidCcdStats> stats(static_cast<std::size_t>(threads));
+    parallelFor(tasks, threads, [&](std::size_t task, int thread) {
+      RigidCcdScratch& local = rigidCcdScratch();
+      if (tree) {
+        local.current.clear();
+        local.current.push_back(items[task]);
+        traverse(local.current, local.next, local.segment, contacts[thread], stats[thread], 0);
+      } else {
+        const std::size_t end = std::min(items.size(), (task + 1) * kLinearBlock);
+        for (std::size_t n = task * kLinearBlock; n < end; ++n) {
+          queryPoint(items[n], local.segment, contacts[thread], stats[thread]);
+        }
+      }
+    });
+    for (int t = 0; t < threads; ++t) {
+      out.stats.nodesVisited += stats[t].nodesVisited;
+      out.stats.segmentQueries += stats[t].segmentQueries;
+      for (auto& c : contacts[t]) out.contacts.push_back(std::move(c));
+    }
+  }
+
+  const PointTree& m_tree;
+  const Field& m_field;
+  const RigidCcdSettings& m_settings;
+  Mat3 m_r0;
+  Mat3 m_r1;
+  Vec3 m_t0;
+  Vec3 m_t1;
+  FieldCullingBounds m_bounds;
+  SegmentCcdSettings m_leaf;
+  SegmentCcdSettings m_node;
+};
+
+}  // namespace detail
+
+template <class Field>
+void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
+              const RigidCcdSettings& settings, RigidCcdResult& outResult) {
+  outResult.clear();
+  if (tree.nodeCount() == 0) return;
+  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
+  query.run(outResult);
+}
+
+template <class Field>
+bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node, const Rigid& sdfFromShellStart,
+                             const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings) {
+  if (node < 0 || node >= tree.nodeCount()) throw Error("pointTreeNodeMayCollide: node out of range");
+  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
+  SegmentCcdResult scratch;
+  RigidCcdStats stats;
+  if (tree.isLeaf(node)) {
+    std::vector<PointContact> contacts;
+    query.queryPoint(tree.point(node), scratch, contacts, stats);
+    return !contacts.empty();
+  }
+  return query.nodeMayCollide(node, scratch, stats);
+}
+
+}  // namespace sdfccd
