@@ -1,0 +1,327 @@
+/// @file
+/// @brief `sdfccd bench segments [--quick] [--out CSV] [--field PATH]`: the segment CCD's speed and accuracy
+/// (paper Table 2, Sections 3.1-3.2).
+///
+/// @details Three protocols, one core, first-hit mode, sigma = 0:
+/// 1. Table 2: segments between uniformly random points in the bunny field's box at 128^3, 256^3, 512^3;
+///    uniform walk (octree off) vs octree (leaves, full), exact vs bisection. Paper, s per 10^6 segments:
+///    uniform 12.7 / 38.8 / 97.2, octree 12.0 / 13.1 / 15.4 (2015 Xeon).
+/// 2. Haptic rate: segments of at most 2 cells starting near the surface (0 < phi < 2 cells); leaves vs full
+///    vs off (paper: leaves 1.5x faster than off, full 2-3x slower than leaves at these lengths).
+/// 3. Exact vs bisection: the time ratio (paper: bisection 1.2x faster) and how many first hits bisection
+///    misses (exact hits, bisection does not) or misplaces (both hit, > 1% of a cell apart), on the bunny
+///    sets and on a random field (independent random node values: several roots per cell).
+/// Bunny fields are built with buildSdf from assets/meshes/bunny.off (padding 0, as the paper's grids) and
+/// cached in out/cache/ (native format) so later runs only load them.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cli/bench_registry.h"
+#include "sdfccd/error.h"
+#include "sdfccd/grid_field.h"
+#include "sdfccd/sdf_builder.h"
+#include "sdfccd/sdf_file.h"
+#if __has_include("sdfccd/io/mesh_loader.h")
+#include "sdfccd/io/mesh_loader.h"
+#define SDFCCD_BENCH_SEGMENTS_HAS_IO 1
+#endif
+
+#ifndef SDFCCD_ASSETS_DIR_CLI
+#define SDFCCD_ASSETS_DIR_CLI "assets"
+#endif
+
+namespace sdfccd::cli {
+namespace {
+
+struct BenchSegmentsOptions {
+  bool quick = false;
+  std::string csv = "bench_segments.csv";
+  std::string field;
+  std::string mesh;
+  std::string cache = "out/cache";
+  long long segments = 0;  // 0: 10^6 (10^5 with --quick)
+  unsigned seed = 1;
+};
+
+struct Segment {
+  Vec3 p0, p1;
+};
+
+struct RunStats {
+  double microseconds = 0.0;  // per segment
+  long long hits = 0;
+  std::vector<float> fractions;  // first hit per segment, -1 when none
+};
+
+RunStats timeQueries(const GridField& field, const std::vector<Segment>& segments, CcdMethod method,
+                     OctreeMode octree, std::size_t count, bool keepFractions) {
+  SegmentCcdSettings settings;
+  settings.sigma = 0.0;
+  settings.method = method;
+  settings.octree = octree;
+  settings.mode = CcdMode::FirstHit;
+  count = std::min(count, segments.size());
+  RunStats stats;
+  if (keepFractions) stats.fractions.assign(count, -1.0f);
+  SegmentCcdResult r;
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t n = 0; n < count; ++n) {
+    field.intersectSegment(segments[n].p0, segments[n].p1, settings, r);
+    if (r.hit()) {
+      ++stats.hits;
+      if (keepFractions) stats.fractions[n] = static_cast<float>(r.fraction);
+    }
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats.microseconds = 1e6 * seconds / static_cast<double>(std::max<std::size_t>(count, 1));
+  return stats;
+}
+
+// First hits of bisection against exact: missed (exact hits, bisection not), misplaced (> 1% of a cell
+// apart along the segment), spurious (bisection hits, exact not).
+struct MissStats {
+  long long exactHits = 0, missed = 0, misplaced = 0, spurious = 0;
+};
+
+MissStats compareFirstHits(const GridField& field, const std::vector<Segment>& segments, std::size_t count) {
+  SegmentCcdSettings exact, bisection;
+  exact.mode = bisection.mode = CcdMode::FirstHit;
+  bisection.method = CcdMethod::Bisection;
+  MissStats m;
+  SegmentCcdResult a, b;
+  count = std::min(count, segments.size());
+  for (std::size_t n = 0; n < count; ++n) {
+    field.intersectSegment(segments[n].p0, segments[n].p1, exact, a);
+    field.intersectSegment(segments[n].p0, segments[n].p1, bisection, b);
+    if (a.hit()) ++m.exactHits;
+    if (a.hit() && !b.hit()) ++m.missed;
+    if (!a.hit() && b.hit()) ++m.spurious;
+    if (a.hit() && b.hit()) {
+      const double length = (segments[n].p1 - segments[n].p0).norm();
+      if (std::abs(a.fraction - b.fraction) * length > 0.01 * field.spacing()) ++m.misplaced;
+    }
+  }
+  return m;
+}
+
+std::vector<Segment> randomSegmentsInBox(const Box3& box, std::size_t count, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Vec3 size = box.max() - box.min();
+  std::vector<Segment> s(count);
+  for (auto& seg : s) {
+    seg.p0 = box.min() + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    seg.p1 = box.min() + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+  }
+  return s;
+}
+
+// Haptic-rate segments: start outside the object within 2 cells of the surface (a shell point before its
+// step), random direction, length up to 2 cells.
+std::vector<Segment> hapticSegments(const GridField& field, std::size_t count, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  const Box3 box = field.grid().box();
+  const Vec3 size = box.max() - box.min();
+  const double h = field.spacing();
+  std::vector<Segment> s;
+  s.reserve(count);
+  for (std::size_t attempts = 0; s.size() < count && attempts < 1000 * count; ++attempts) {
+    const Vec3 p0 = box.min() + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const double phi = field.distance(p0);
+    if (!(phi > 0.0 && phi < 2.0 * h)) continue;
+    Vec3 dir(normal(rng), normal(rng), normal(rng));
+    if (dir.norm() == 0.0) continue;
+    s.push_back({p0, p0 + (2.0 * h * u(rng)) * dir.normalized()});
+  }
+  return s;
+}
+
+std::shared_ptr<const SdfGrid> bunnyField(const BenchSegmentsOptions& o, int resolution) {
+  namespace fs = std::filesystem;
+  const std::string cached = o.cache + "/bunny_" + std::to_string(resolution) + "_pad0.sdf";
+  if (fs::exists(cached)) {
+    std::printf("  loading %s\n", cached.c_str());
+    return std::make_shared<const SdfGrid>(loadSdf(cached));
+  }
+#ifdef SDFCCD_BENCH_SEGMENTS_HAS_IO
+  const std::string meshPath = o.mesh.empty() ? std::string(SDFCCD_ASSETS_DIR_CLI) + "/meshes/bunny.off" : o.mesh;
+  std::printf("  building the bunny SDF at %d^3 from %s (cached in %s)\n", resolution, meshPath.c_str(),
+              cached.c_str());
+  std::fflush(stdout);
+  const TriangleMesh mesh = loadMesh(meshPath);
+  SdfBuildSettings settings;
+  settings.resolution = resolution;
+  settings.padding = 0;
+  SdfBuildResult built = buildSdf(mesh, settings);
+  std::error_code ec;
+  fs::create_directories(o.cache, ec);
+  if (!ec) saveSdf(cached, *built.grid);
+  return built.grid;
+#else
+  throw Error("no cached field '" + cached + "' and the tool was built without mesh loading (assimp)");
+#endif
+}
+
+struct PaperTable2 {
+  int resolution;
+  double uniform, octree;  // s per 10^6 segments
+};
+
+int runBenchSegments(const BenchSegmentsOptions& o) {
+  const long long count = o.segments > 0 ? o.segments : (o.quick ? 100000 : 1000000);
+  if (count > 100000000) throw Error("--segments must be at most 1e8");
+  std::vector<PaperTable2> rows = {{128, 12.7, 12.0}, {256, 38.8, 13.1}, {512, 97.2, 15.4}};
+  if (o.quick) rows = {{64, 0.0, 0.0}, {128, 12.7, 12.0}};
+  if (!o.field.empty()) rows = {{0, 0.0, 0.0}};
+
+  std::printf("Segment CCD benchmark (paper Table 2 and Sections 3.1-3.2); one core, first hit, sigma = 0\n");
+  std::printf("machine: %s (paper: 2015 Xeon)\n", machineDescription().c_str());
+  std::ofstream csv;
+  if (!o.csv.empty()) {
+    csv.open(o.csv);
+    if (!csv) throw Error("cannot write '" + o.csv + "'");
+    csv << "protocol,field,cells,method,octree,segments,us_per_segment,s_per_1e6,paper_s_per_1e6,hits,"
+           "octree_memory_ratio,machine\n";
+  }
+  auto csvRow = [&](const char* protocol, const std::string& field, int cells, const char* method,
+                    const char* octree, std::size_t n, const RunStats& r, double paper, double ratio) {
+    if (!csv) return;
+    csv << protocol << ',' << field << ',' << cells << ',' << method << ',' << octree << ',' << n << ','
+        << r.microseconds << ',' << r.microseconds << ',' << paper << ',' << r.hits << ',' << ratio << ",\""
+        << machineDescription() << "\"\n";
+  };
+
+  struct Config {
+    CcdMethod method;
+    OctreeMode octree;
+    const char* methodName;
+    const char* octreeName;
+  };
+  const std::vector<Config> configs = {
+      {CcdMethod::Exact, OctreeMode::Off, "exact", "off"},       {CcdMethod::Exact, OctreeMode::Leaves, "exact", "leaves"},
+      {CcdMethod::Exact, OctreeMode::Full, "exact", "full"},     {CcdMethod::Bisection, OctreeMode::Off, "bisection", "off"},
+      {CcdMethod::Bisection, OctreeMode::Leaves, "bisection", "leaves"},
+      {CcdMethod::Bisection, OctreeMode::Full, "bisection", "full"},
+  };
+
+  std::printf("\n%-22s %7s %-10s %-7s %9s %12s %12s %12s %9s\n", "protocol", "cells", "method", "octree", "segments",
+              "us/segment", "s per 1e6", "paper s/1e6", "hits");
+  for (const PaperTable2& row : rows) {
+    const auto grid = o.field.empty() ? bunnyField(o, row.resolution)
+                                      : std::make_shared<const SdfGrid>(loadSdf(o.field));
+    const std::string fieldName = o.field.empty() ? "bunny" : o.field;
+    const auto buildStart = std::chrono::steady_clock::now();
+    const GridField field(grid);
+    const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
+    const int cells = grid->cellCounts().maxCoeff();
+    const double ratio = static_cast<double>(field.octree().memoryBytes()) / static_cast<double>(grid->memoryBytes());
+    std::printf("-- %s %dx%dx%d cells: octree %.1f MB = %.1f%% of the grid's %.1f MB (paper: 196%%), built in %.3f s\n",
+                fieldName.c_str(), grid->cellCounts().x(), grid->cellCounts().y(), grid->cellCounts().z(),
+                field.octree().memoryBytes() / 1e6, 100.0 * ratio, grid->memoryBytes() / 1e6, buildSeconds);
+
+    // Protocol 1: Table 2.
+    const std::vector<Segment> random = randomSegmentsInBox(grid->box(), static_cast<std::size_t>(count), o.seed);
+    // The uniform walk is slow at high resolution: time it on at most 2e5 segments (us per segment is what counts).
+    const std::size_t uniformCount = std::min<std::size_t>(random.size(), 200000);
+    double exactFull = 0.0, bisectionFull = 0.0;
+    for (const Config& c : configs) {
+      const std::size_t n = c.octree == OctreeMode::Off ? uniformCount : random.size();
+      const RunStats r = timeQueries(field, random, c.method, c.octree, n, false);
+      double paper = 0.0;
+      if (c.method == CcdMethod::Exact && c.octree == OctreeMode::Off) paper = row.uniform;
+      if (c.method == CcdMethod::Exact && c.octree == OctreeMode::Full) paper = row.octree;
+      if (c.octree == OctreeMode::Full) (c.method == CcdMethod::Exact ? exactFull : bisectionFull) = r.microseconds;
+      char paperText[32] = "-";
+      if (paper > 0.0) std::snprintf(paperText, sizeof(paperText), "%.1f", paper);
+      std::printf("%-22s %7d %-10s %-7s %9zu %12.3f %12.2f %12s %9lld\n", "table2-random", cells, c.methodName,
+                  c.octreeName, n, r.microseconds, r.microseconds, paperText, r.hits);
+      csvRow("table2-random", fieldName, cells, c.methodName, c.octreeName, n, r, paper, ratio);
+    }
+    std::printf("   exact/bisection time ratio (full octree): %.2f (paper: 1.2)\n", exactFull / bisectionFull);
+
+    // Protocol 2: haptic rate.
+    const std::vector<Segment> haptic = hapticSegments(field, static_cast<std::size_t>(count), o.seed + 1);
+    double hapticTimes[3] = {0, 0, 0};
+    for (const Config& c : configs) {
+      const RunStats r = timeQueries(field, haptic, c.method, c.octree, haptic.size(), false);
+      if (c.method == CcdMethod::Exact) hapticTimes[static_cast<int>(c.octree)] = r.microseconds;
+      std::printf("%-22s %7d %-10s %-7s %9zu %12.3f %12.2f %12s %9lld\n", "haptic-short", cells, c.methodName,
+                  c.octreeName, haptic.size(), r.microseconds, r.microseconds, "-", r.hits);
+      csvRow("haptic-short", fieldName, cells, c.methodName, c.octreeName, haptic.size(), r, 0.0, ratio);
+    }
+    const double off = hapticTimes[static_cast<int>(OctreeMode::Off)];
+    const double leaves = hapticTimes[static_cast<int>(OctreeMode::Leaves)];
+    const double full = hapticTimes[static_cast<int>(OctreeMode::Full)];
+    std::printf("   haptic, exact: off/leaves = %.2f (paper: 1.5), full/leaves = %.2f (paper: 2-3)\n", off / leaves,
+                full / leaves);
+
+    // Protocol 3: bisection's misses on this field.
+    const MissStats mr = compareFirstHits(field, random, std::min<std::size_t>(random.size(), 200000));
+    const MissStats mh = compareFirstHits(field, haptic, haptic.size());
+    std::printf("   bisection vs exact, random: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
+                mr.exactHits, mr.missed, mr.misplaced, mr.spurious);
+    std::printf("   bisection vs exact, haptic: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
+                mh.exactHits, mh.missed, mh.misplaced, mh.spurious);
+    if (csv) {
+      for (const auto& [name, m] : {std::pair<const char*, MissStats>{"misses-random", mr}, {"misses-haptic", mh}}) {
+        csv << name << ',' << fieldName << ',' << cells << ",bisection,full," << m.exactHits << ",,,,"
+            << m.missed << ';' << m.misplaced << ';' << m.spurious << ',' << ratio << ",\"" << machineDescription()
+            << "\"\n";
+      }
+    }
+    std::fflush(stdout);
+  }
+
+  // Protocol 3 on a random field: independent node values in [-1, 1], several roots per cell.
+  {
+    const int n = 33;
+    std::mt19937 rng(o.seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<float> values(static_cast<std::size_t>(n) * n * n);
+    for (auto& v : values) v = static_cast<float>(u(rng));
+    const GridField field(std::make_shared<const SdfGrid>(Vec3i(n, n, n), Vec3::Zero(), 1.0, std::move(values)));
+    // Segments of up to 2 cells (long ones almost always start near a crossing cell).
+    std::vector<Segment> segments = randomSegmentsInBox(field.grid().box(), 100000, o.seed + 2);
+    for (auto& s : segments) s.p1 = s.p0 + (s.p1 - s.p0).normalized() * 2.0 * std::uniform_real_distribution<double>(0, 1)(rng);
+    const MissStats m = compareFirstHits(field, segments, segments.size());
+    const RunStats e = timeQueries(field, segments, CcdMethod::Exact, OctreeMode::Full, segments.size(), false);
+    const RunStats b = timeQueries(field, segments, CcdMethod::Bisection, OctreeMode::Full, segments.size(), false);
+    std::printf("-- random field 32^3 cells, values in [-1,1], 1e5 segments of <= 2 cells\n");
+    std::printf("   bisection vs exact: %lld exact hits, %lld missed (%.2f%%), %lld misplaced (%.2f%%), %lld spurious\n",
+                m.exactHits, m.missed, 100.0 * m.missed / std::max<long long>(m.exactHits, 1), m.misplaced,
+                100.0 * m.misplaced / std::max<long long>(m.exactHits, 1), m.spurious);
+    std::printf("   time: exact %.3f us, bisection %.3f us, ratio %.2f (paper: 1.2)\n", e.microseconds, b.microseconds,
+                e.microseconds / b.microseconds);
+    if (csv) {
+      csv << "misses-random-field,random,32,bisection,full," << m.exactHits << ",,,," << m.missed << ';'
+          << m.misplaced << ';' << m.spurious << ",,\"" << machineDescription() << "\"\n";
+    }
+  }
+  if (!o.csv.empty()) std::printf("wrote %s\n", o.csv.c_str());
+  return 0;
+}
+
+const BenchRegistrar registrar("segments", "Table 2: segment CCD, uniform walk vs octree, exact vs bisection",
+                               [](CLI::App& sub) {
+                                 auto o = std::make_shared<BenchSegmentsOptions>();
+                                 sub.add_flag("--quick", o->quick, "64^3 and 128^3, 1e5 segments (seconds)");
+                                 sub.add_option("--out", o->csv, "CSV output (default bench_segments.csv; empty: none)");
+                                 sub.add_option("--field", o->field, "Use this field file instead of the bunny builds");
+                                 sub.add_option("--mesh", o->mesh, "Mesh for the bunny builds (default assets/meshes/bunny.off)");
+                                 sub.add_option("--cache", o->cache, "Folder of cached bunny fields (default out/cache)");
+                                 sub.add_option("--segments", o->segments, "Segments per protocol (default 1e6; 1e5 quick)");
+                                 sub.add_option("--seed", o->seed, "Random seed");
+                                 return std::function<int()>([o]() { return runBenchSegments(*o); });
+                               });
+
+}  // namespace
+}  // namespace sdfccd::cli
