@@ -163,10 +163,21 @@ RenderCamera OffscreenRenderer::cameraFor(const RenderScene& scene, const Render
     scene.camera->validate();
     return *scene.camera;
   }
-  Box3 box = contentBounds(scene);
-  // Bodies fall: keep the ground under them in view so contact with it is visible.
-  if (scene.ground && !box.isEmpty()) box.extend(Vec3(box.min().x(), scene.ground->height, box.min().z()));
-  return frameBox(box, static_cast<double>(settings.width) / settings.height, settings.framing);
+  // The corners of every body's box and every point, and their shadows on the ground: bodies fall, and
+  // where they land stays in view.
+  contentBounds(scene);  // validates
+  std::vector<Vec3> points;
+  for (const RenderMesh& body : scene.meshes) {
+    const Box3 box = worldBounds(body);
+    for (int corner = 0; corner < 8; ++corner) points.push_back(box.corner(static_cast<Box3::CornerType>(corner)));
+  }
+  for (const RenderPointSet& set : scene.pointSets) points.insert(points.end(), set.pointsInWorld.begin(),
+                                                                   set.pointsInWorld.end());
+  if (scene.ground) {
+    const std::size_t count = points.size();
+    for (std::size_t i = 0; i < count; ++i) points.emplace_back(points[i].x(), scene.ground->height, points[i].z());
+  }
+  return framePoints(points, static_cast<double>(settings.width) / settings.height, settings.framing);
 }
 
 RgbImage OffscreenRenderer::render(const RenderScene& scene, const RenderSettings& settings) {
@@ -186,20 +197,24 @@ RgbImage OffscreenRenderer::render(const RenderScene& scene, const RenderSetting
     throw Error("render: OSMesa cannot render a " + std::to_string(width) + "x" + std::to_string(height) + " image");
   }
 
-  // Sizes of what is drawn: the ground square reaches far beyond the bodies, the clip range holds it all.
-  Box3 box = content;
-  if (box.isEmpty()) box = Box3(camera.target, camera.target);
-  if (scene.ground) box.extend(Vec3(box.center().x(), scene.ground->height, box.center().z()));
-  const Vec3 centre = box.center();
-  const double radius = std::max(0.5 * box.diagonal().norm(), 0.05);
-  const double groundHalf = 200.0 * radius;  // far enough that its edge sits on the horizon
-  const double eyeToCentre = (camera.eye - centre).norm();
-  const double farDistance = eyeToCentre + 1.5 * groundHalf + radius;
-  double nearDistance = 0.5 * (eyeToCentre - radius);
-  if (scene.ground) {
-    const double eyeAboveGround = std::abs(camera.eye.y() - scene.ground->height);
-    nearDistance = std::min(nearDistance, 0.5 * eyeAboveGround);
+  // Sizes of what is drawn come from the camera, not from the bodies, so that under a fixed camera the ground,
+  // its grid and the clip range stay put from frame to frame while bodies move. `viewScale` is the half-height
+  // of the view at the target; the ground square reaches far beyond it (its edge then sits on the horizon).
+  const double eyeToTarget = (camera.eye - camera.target).norm();
+  const double viewScale = std::max(eyeToTarget * std::tan(0.5 * camera.fovDegrees * 3.14159265358979323846 / 180.0),
+                                    1e-3);
+  const double groundHalf = 400.0 * viewScale;
+  const Vec3 groundCentre(camera.target.x(), 0.0, camera.target.z());
+  double farDistance = eyeToTarget + 1.5 * groundHalf;
+  double nearDistance = 0.5 * eyeToTarget;
+  if (!content.isEmpty()) {
+    // Bodies and points, wherever they are, lie inside the clip range.
+    const double contentRadius = 0.5 * content.diagonal().norm();
+    const double eyeToContent = (camera.eye - content.center()).norm();
+    farDistance = std::max(farDistance, eyeToContent + 2.0 * contentRadius);
+    nearDistance = std::min(nearDistance, 0.5 * (eyeToContent - contentRadius));
   }
+  if (scene.ground) nearDistance = std::min(nearDistance, 0.5 * std::abs(camera.eye.y() - scene.ground->height));
   nearDistance = std::max(nearDistance, 1e-5 * farDistance);
 
   glViewport(0, 0, width, height);
@@ -249,8 +264,8 @@ RgbImage OffscreenRenderer::render(const RenderScene& scene, const RenderSetting
   if (scene.ground) {
     const RenderGround& ground = *scene.ground;
     const double y = ground.height;
-    const double cx = centre.x();
-    const double cz = centre.z();
+    const double cx = groundCentre.x();
+    const double cz = groundCentre.z();
     glEnable(GL_LIGHTING);
     glColor(ground.color);
     glBegin(GL_QUADS);
@@ -261,11 +276,11 @@ RgbImage OffscreenRenderer::render(const RenderScene& scene, const RenderSetting
     glVertex3d(cx + groundHalf, y, cz - groundHalf);
     glEnd();
 
-    // Grid lines on multiples of the step (so they stay put while bodies move), over a square of about
-    // ten body radii: further out they would only alias into a grey blur.
+    // Grid lines on multiples of the step (world-fixed), over a square a few view sizes wide: further out
+    // they would only alias into a grey blur.
     glDisable(GL_LIGHTING);
-    const double step = ground.gridSpacing > 0.0 ? ground.gridSpacing : niceStep(radius / 4.0);
-    const double gridHalf = std::min(groundHalf, 10.0 * radius);
+    const double step = ground.gridSpacing > 0.0 ? ground.gridSpacing : niceStep(viewScale / 2.5);
+    const double gridHalf = std::min(groundHalf, 6.0 * viewScale);
     const long first = static_cast<long>(std::floor((-gridHalf) / step));
     const long last = static_cast<long>(std::ceil(gridHalf / step));
     if (last - first <= 4000) {

@@ -75,41 +75,74 @@ PixelProjection projectToPixel(const RenderCamera& camera, const Vec3& pointInWo
   return result;
 }
 
-RenderCamera frameBox(const Box3& worldBox, double aspect, const CameraFramingSettings& settings) {
+RenderCamera framePoints(const std::vector<Vec3>& pointsInWorld, double aspect, const CameraFramingSettings& settings) {
   if (!(aspect > 0.0) || !std::isfinite(aspect)) throw Error("camera framing: bad image aspect ratio");
   if (!settings.viewDirection.allFinite() || settings.viewDirection.norm() <= 1e-12) {
     throw Error("camera framing: the view direction must be finite and non-zero");
   }
   if (!(settings.margin >= 1.0) || !std::isfinite(settings.margin)) throw Error("camera framing: margin must be >= 1");
-  Box3 box = worldBox;
-  if (box.isEmpty()) box = Box3(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
-  if (!box.min().allFinite() || !box.max().allFinite()) throw Error("camera framing: the scene bounds are not finite");
-  const Vec3 centre = box.center();
-  const Vec3 halfSize = (0.5 * box.sizes()).cwiseMax(0.05);
-  box = Box3(centre - halfSize, centre + halfSize);
+  if (!(settings.fovDegrees > 0.0 && settings.fovDegrees < 179.0)) throw Error("camera framing: bad field of view");
+  Box3 box;
+  for (const Vec3& p : pointsInWorld) {
+    if (!p.allFinite()) throw Error("camera framing: the scene bounds are not finite");
+    box.extend(p);
+  }
+  std::vector<Vec3> points = pointsInWorld;
+  if (box.isEmpty() || (box.sizes().array() < 0.1).all()) {
+    // Nothing (or almost nothing) to frame: a 0.1 m box around it.
+    const Vec3 centre = box.isEmpty() ? Vec3::Zero() : Vec3(box.center());
+    const Box3 small(centre - Vec3::Constant(0.05), centre + Vec3::Constant(0.05));
+    for (int corner = 0; corner < 8; ++corner) points.push_back(small.corner(static_cast<Box3::CornerType>(corner)));
+    box.extend(small);
+  }
 
   RenderCamera camera;
   camera.fovDegrees = settings.fovDegrees;
-  camera.target = centre;
   const Vec3 forward = settings.viewDirection.normalized();
   camera.up = std::abs(forward.y()) > 0.999 ? Vec3(0.0, 0.0, -1.0) : Vec3(0.0, 1.0, 0.0);
   const Vec3 right = forward.cross(camera.up).normalized();
   const Vec3 cameraUp = right.cross(forward);
   const double tanHalfY = std::tan(0.5 * degreesToRadians(settings.fovDegrees));
   const double tanHalfX = tanHalfY * aspect;
-  // With the camera at centre - distance * forward, a corner p is at depth distance + (p - centre).forward and
-  // lateral offsets (p - centre).right / .up: it is inside the view when both offsets fit the half-angles.
-  double distance = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 offset = box.corner(static_cast<Box3::CornerType>(corner)) - centre;
-    const double along = offset.dot(forward);
-    distance = std::max(distance, std::abs(offset.dot(right)) / tanHalfX - along);
-    distance = std::max(distance, std::abs(offset.dot(cameraUp)) / tanHalfY - along);
+  // With the camera at target - distance * forward, a point p is at depth distance + (p - target).forward and
+  // lateral offsets (p - target).right / .up: it is inside the view when both offsets fit the half-angles.
+  auto fitDistance = [&](const Vec3& target) {
+    double distance = 0.0;
+    for (const Vec3& p : points) {
+      const Vec3 offset = p - target;
+      const double along = offset.dot(forward);
+      distance = std::max(distance, std::abs(offset.dot(right)) / tanHalfX - along);
+      distance = std::max(distance, std::abs(offset.dot(cameraUp)) / tanHalfY - along);
+    }
+    return std::max(distance, 1e-3);
+  };
+  // Start at the box centre, then slide the target sideways so the projected extents are centred (a few
+  // rounds: each slide changes the depths a little).
+  Vec3 target = box.center();
+  for (int round = 0; round < 4; ++round) {
+    const double distance = fitDistance(target);
+    double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
+    for (const Vec3& p : points) {
+      const Vec3 offset = p - target;
+      const double depth = std::max(distance + offset.dot(forward), 1e-9);
+      const double x = offset.dot(right) / depth;
+      const double y = offset.dot(cameraUp) / depth;
+      minX = std::min(minX, x), maxX = std::max(maxX, x), minY = std::min(minY, y), maxY = std::max(maxY, y);
+    }
+    target += distance * (0.5 * (minX + maxX) * right + 0.5 * (minY + maxY) * cameraUp);
   }
-  distance = std::max(distance * settings.margin, 1e-3);
-  camera.eye = centre - distance * forward;
+  camera.target = target;
+  camera.eye = target - settings.margin * fitDistance(target) * forward;
   camera.validate();
   return camera;
+}
+
+RenderCamera frameBox(const Box3& worldBox, double aspect, const CameraFramingSettings& settings) {
+  std::vector<Vec3> corners;
+  if (!worldBox.isEmpty()) {
+    for (int corner = 0; corner < 8; ++corner) corners.push_back(worldBox.corner(static_cast<Box3::CornerType>(corner)));
+  }
+  return framePoints(corners, aspect, settings);
 }
 
 }  // namespace sdfccd::render

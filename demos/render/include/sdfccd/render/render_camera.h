@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "sdfccd/math_types.h"
 
@@ -48,6 +49,12 @@ struct CameraFramingSettings {
   double fovDegrees = 35.0;                       ///< vertical field of view (degrees)
   double margin = 1.12;                           ///< distance factor beyond the tight fit (>= 1)
 };
+
+/// A camera that sees every point of `pointsInWorld` in an image of aspect = width / height, looking along
+/// settings.viewDirection; the target is moved sideways so the points' projection is centred. Points spanning
+/// less than 0.1 m are framed as a 0.1 m box. Throws sdfccd::Error for non-finite points or bad settings.
+RenderCamera framePoints(const std::vector<Vec3>& pointsInWorld, double aspect,
+                         const CameraFramingSettings& settings = {});
 
 /// A camera that sees all of `worldBox` in an image of aspect = width / height. An empty or degenerate box is
 /// framed as a box of at least 0.1 m. Throws sdfccd::Error for a non-finite box or bad settings.

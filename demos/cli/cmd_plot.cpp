@@ -1,0 +1,43 @@
+/// @file
+/// @brief `sdfccd plot RUN_DIR`: PNG plots of penetration, kinetic energy, contacts and CCD time per frame.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "cli/command_registry.h"
+#include "cli/run_frame_renderer.h"
+#include "cli/run_plots.h"
+
+namespace sdfccd::cli {
+namespace {
+
+struct PlotOptions {
+  std::string runDir;
+  std::string size = "900x420";
+  std::string outDir;
+};
+
+int runPlot(const PlotOptions& options) {
+  RunPlotSettings settings;
+  parseImageSize(options.size, settings.width, settings.height);
+  settings.outputDir =
+      options.outDir.empty() ? (std::filesystem::path(options.runDir) / "plots").string() : options.outDir;
+  // Plots need the frames only: meshes are not looked up.
+  const RunFolder run = readRunFolder(options.runDir, /*resolveMeshes=*/false);
+  const RunPlotResult result = writeRunPlots(run.frames, settings);
+  for (const std::string& path : result.written) std::printf("plot: %s\n", path.c_str());
+  for (const std::string& note : result.skipped) std::printf("skipped %s\n", note.c_str());
+  return 0;
+}
+
+const CommandRegistrar registrar("plot", [](CLI::App& app) {
+  auto options = std::make_shared<PlotOptions>();
+  CLI::App* cmd = app.add_subcommand("plot", "Plot a saved run: penetration, kinetic energy, contacts, CCD time");
+  cmd->add_option("run_dir", options->runDir, "Run folder written by `sdfccd simulate --out`")->required();
+  cmd->add_option("--size", options->size, "Size of one plot WIDTHxHEIGHT (default 900x420)");
+  cmd->add_option("--out", options->outDir, "Folder for the plots (default RUN_DIR/plots)");
+  return std::function<int()>([options]() { return runPlot(*options); });
+});
+
+}  // namespace
+}  // namespace sdfccd::cli
