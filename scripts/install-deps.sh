@@ -13,6 +13,7 @@ packages=(
   libcli11-dev         # command-line parsing
   nlohmann-json3-dev   # scene files and summaries
   libpng-dev           # frame output
+  gnuplot-nox          # run plots (sdfccd plot), headless pngcairo terminal
   libtbb-dev           # parallel loops in the SDF builder and tree traversal
 )
 missing=()
