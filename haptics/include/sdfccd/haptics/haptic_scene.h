@@ -1,0 +1,93 @@
+/// @file
+/// @brief HapticScene: one haptics experiment as data (assets/scenes/haptics/*.json), shared by the CLI,
+/// the tests and the benchmarks (paper Section 5, "Haptic Rendering").
+///
+/// @details A scene holds the static object (a grid field, or an analytic plane), the manipulated point
+/// shell with its mass properties, the scripted user, and the settings of the device and of both
+/// renderers, in the scene's own units (metres in the shipped scenes). Contact tolerances are written in
+/// voxels ("cells") in the file and converted with the field's spacing.
+///
+/// Static objects are built on the grid from exact box and y-axis cylinder signed distances combined by CSG:
+/// phi = max(min_i solid_i, -min_j hole_j). Its zero level set is the exact boundary, and near flat walls the
+/// values are the exact distances, so a field offset of 0.1 voxel ("fieldOffsetCells", field values minus
+/// 0.1 * spacing: the paper's shrunk hole) is exactly 0.1 voxel; a closed cavity (the stuck case of Fig. 13)
+/// is one hole. Shells come from the procedural meshes (box, cylinder, icosphere), sampled by particle
+/// repulsion (point_shell.h).
+///
+/// File format: see assets/scenes/haptics/README.md.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sdfccd/analytic_fields.h"
+#include "sdfccd/grid_field.h"
+#include "sdfccd/haptics/device_emulator.h"
+#include "sdfccd/haptics/god_object.h"
+#include "sdfccd/haptics/penalty_renderer.h"
+#include "sdfccd/haptics/user_script.h"
+#include "sdfccd/point_tree.h"
+
+namespace sdfccd::haptics {
+
+/// A CSG primitive of the static object, in the field's frame.
+struct CsgPrimitive {
+  enum class Kind { Box, CylinderY } kind = Kind::Box;
+  Vec3 center = Vec3::Zero();
+  Vec3 halfExtents = Vec3::Zero();  ///< box half sizes; for a cylinder (radius, half height, unused)
+  double signedDistance(const Vec3& p) const;  ///< exact signed distance (model units)
+};
+
+/// The static object of a scene as CSG (before sampling).
+struct CsgObstacle {
+  std::vector<CsgPrimitive> solids;
+  std::vector<CsgPrimitive> holes;
+  double spacing = 0.0;        ///< cell edge (model units)
+  int paddingCells = 3;        ///< cells around the solids' box
+  double offsetCells = 0.0;    ///< subtract offsetCells * spacing from every value (grows the object)
+  double signedDistance(const Vec3& p) const;  ///< CSG value before the offset
+};
+
+/// Samples the CSG obstacle on a grid. Throws sdfccd::Error on no solids, bad spacing, or more than
+/// 64 M nodes.
+std::shared_ptr<const SdfGrid> sampleCsgObstacle(const CsgObstacle& obstacle);
+
+/// What a session checks.
+struct HapticSceneChecks {
+  bool hasInsert = false;
+  Vec3 insertAxis = -Vec3::UnitY();  ///< unit: "inserted" when the body's centre reaches insertDepth along it
+  double insertDepth = 0.0;          ///< model units
+  bool hasTunnel = false;
+  Vec3 tunnelNormal = -Vec3::UnitY();  ///< unit: "tunneled" when normal . centre > tunnelOffset
+  double tunnelOffset = 0.0;           ///< model units
+};
+
+struct HapticScene {
+  std::string name;
+  std::string description;
+  // The static object: a grid field, or an analytic plane when `plane` is set.
+  std::shared_ptr<const GridField> grid;
+  std::optional<PlaneField> plane;
+  Rigid worldFromSdf = Rigid::Identity();
+  double cellSize = 0.0;  ///< the field's spacing (plane: a nominal cell used for tolerances), model units
+  // The manipulated object.
+  std::shared_ptr<const PointTree> tree;
+  double mass = 0.0;                      ///< kg
+  Vec3 inertiaDiagonal = Vec3::Zero();    ///< kg m^2, body axes
+  Rigid worldFromBodyStart = Rigid::Identity();
+  // The user and the loops.
+  UserScript script;
+  double seconds = 0.0;                   ///< default session length (s)
+  DeviceSettings device;
+  GodObjectSettings god;
+  PenaltyRendererSettings penalty;
+  HapticSceneChecks checks;
+};
+
+/// Loads a scene file. Throws sdfccd::Error (one line naming the file and the key) on a missing file,
+/// bad JSON, missing or absurd values.
+HapticScene loadHapticScene(const std::string& path);
+
+}  // namespace sdfccd::haptics

@@ -1,0 +1,98 @@
+/// @file
+/// @brief runHapticSession: a scripted, headless haptics session of one scene with one rendering method
+/// (paper Sections 4.1, 4.2 and 5).
+///
+/// @details The emulated device runs the haptic loop at its rate. Per method:
+/// - Constraint / DiscreteConstraint (Section 4.2): two asynchronous loops, as in the paper. The haptic loop
+///   publishes the device pose and renders the newest F_c; the simulation loop (QP + CCD) runs as fast as it
+///   can on its own thread, reading the newest device pose and publishing F_c, its pose and its contacts.
+///   They share two LatestValue slots (latest_value.h) and nothing else.
+/// - Penalty / DiscretePenalty (Section 4.1): the implicit penalty step runs inside the haptic loop (one
+///   simulation step per haptic tick, as the paper's admittance-mode loop does).
+/// Real time: the device loop sleeps to its deadlines on its own thread (start()). Virtual time
+/// (realTime = false, for tests): the same ticks back to back, and the constraint method runs
+/// `simCyclesPerTick` simulation cycles in lockstep inside each tick, so a run is deterministic.
+///
+/// Penetration is measured after each simulation step over every shell point (a point query of the tree at
+/// phi <= 0), outside the timed part of the cycle.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sdfccd/haptics/haptic_scene.h"
+
+namespace sdfccd::haptics {
+
+enum class HapticMethod { Penalty, DiscretePenalty, Constraint, DiscreteConstraint };
+
+/// "penalty", "discrete-penalty", "constraint", "discrete-constraint".
+const char* toString(HapticMethod method);
+/// Parses the names above. Throws sdfccd::Error on another name.
+HapticMethod parseHapticMethod(const std::string& name);
+
+struct HapticSessionSettings {
+  HapticMethod method = HapticMethod::Constraint;
+  double seconds = 0.0;        ///< s; 0: the scene's default
+  bool realTime = false;       ///< true: 1 kHz loop on its own thread + simulation thread
+  int simCyclesPerTick = 1;    ///< virtual time, constraint methods: simulation cycles per haptic tick
+  bool recordTicks = true;     ///< keep one HapticTickRecord per tick
+  int ccdThreads = 1;          ///< CCD worker threads of the simulation
+};
+
+/// One row of the per-tick log (written by the haptic loop).
+struct HapticTickRecord {
+  std::int64_t tick = 0;
+  double time = 0.0;                       ///< s
+  Rigid worldFromDevice = Rigid::Identity();
+  Rigid worldFromSimulation = Rigid::Identity();  ///< god-object or penalty object (newest known)
+  Vec6 wrenchOnDevice = Vec6::Zero();      ///< N, N m (before the device's clamping)
+  int contacts = 0;
+  double penetration = 0.0;                ///< model units, >= 0, newest known
+  int qpState = 0;                         ///< ContactQpState of the newest cycle (constraint methods)
+  double simCycleMs = 0.0;                 ///< ms, duration of the newest simulation cycle
+};
+
+struct HapticSessionSummary {
+  std::string scene;
+  std::string method;
+  bool realTime = false;
+  double seconds = 0.0;
+  bool hasInsertCheck = false;
+  bool inserted = false;
+  double maxPenetrationCells = 0.0;
+  bool hasTunnelCheck = false;
+  bool tunneled = false;
+  double hapticRateHz = 0.0;
+  std::int64_t hapticTicks = 0;
+  std::int64_t hapticOverruns = 0;
+  double hapticJitterP99Us = 0.0;
+  std::int64_t simCycles = 0;
+  double simCycleP50Ms = 0.0;
+  double simCycleP99Ms = 0.0;
+  double simCycleMaxMs = 0.0;
+  int maxContacts = 0;
+  double meanContacts = 0.0;        ///< over simulation cycles
+  std::int64_t stuckCycles = 0;     ///< constraint: cycles whose QP reported Stuck
+  std::int64_t failedCycles = 0;    ///< constraint: cycles whose QP failed
+  std::int64_t blockedCycles = 0;   ///< constraint: cycles whose QP optimum was ~0
+  int shellPoints = 0;
+  Vec3 finalPosition = Vec3::Zero();  ///< the simulated object's centre at the end
+  double insertProgress = 0.0;        ///< deepest reach along the insert axis (model units)
+};
+
+struct HapticSessionResult {
+  HapticSessionSummary summary;
+  std::vector<HapticTickRecord> ticks;
+};
+
+/// Runs the session. Throws sdfccd::Error on bad settings.
+HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings);
+
+/// Writes the per-tick CSV (atomically).
+void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks);
+/// The summary as a JSON object text (keys in snake_case, as the CLI's summary.json).
+std::string summaryJson(const HapticSessionSummary& summary);
+
+}  // namespace sdfccd::haptics

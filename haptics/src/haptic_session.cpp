@@ -1,0 +1,316 @@
+/// @file
+/// @brief runHapticSession: the haptic loop, the simulation loop and what they record.
+#include "sdfccd/haptics/haptic_session.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <thread>
+
+#include "sdfccd/atomic_file.h"
+#include "sdfccd/error.h"
+#include "sdfccd/haptics/latest_value.h"
+
+namespace sdfccd::haptics {
+
+const char* toString(HapticMethod method) {
+  switch (method) {
+    case HapticMethod::Penalty: return "penalty";
+    case HapticMethod::DiscretePenalty: return "discrete-penalty";
+    case HapticMethod::Constraint: return "constraint";
+    case HapticMethod::DiscreteConstraint: return "discrete-constraint";
+  }
+  return "?";
+}
+
+HapticMethod parseHapticMethod(const std::string& name) {
+  for (HapticMethod m : {HapticMethod::Penalty, HapticMethod::DiscretePenalty, HapticMethod::Constraint,
+                         HapticMethod::DiscreteConstraint}) {
+    if (name == toString(m)) return m;
+  }
+  throw Error("unknown haptic method '" + name + "' (penalty, discrete-penalty, constraint, discrete-constraint)");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Deepest penetration (phi < 0) over every shell point at a pose: a point query of the tree.
+template <class Field>
+double measurePenetration(const PointTree& tree, const Field& field, const Rigid& sdfFromBody, RigidCcdResult& scratch) {
+  RigidCcdSettings s;
+  s.sigma = 0.0;
+  s.mode = CcdMode::FirstHit;
+  s.octree = OctreeMode::Leaves;
+  rigidCcd(tree, field, sdfFromBody, sdfFromBody, s, scratch);
+  double deepest = 0.0;
+  for (const PointContact& c : scratch.contacts) deepest = std::max(deepest, -c.depthAtEnd);
+  return deepest;
+}
+
+/// What the simulation publishes for the haptic loop.
+struct SimulationOutput {
+  Vec6 wrenchOnDevice = Vec6::Zero();
+  Rigid worldFromSimulation = Rigid::Identity();
+  int contacts = 0;
+  double penetration = 0.0;
+  int qpState = 0;
+  double cycleMs = 0.0;
+};
+
+/// Statistics kept by whichever thread runs the simulation.
+struct SimulationLog {
+  std::vector<double> cycleMs;
+  int maxContacts = 0;
+  double contactSum = 0.0;
+  double maxPenetration = 0.0;
+  std::int64_t stuck = 0, failed = 0, blocked = 0;
+  bool inserted = false;
+  bool tunneled = false;
+  double insertProgress = -1e300;
+
+  void observe(const HapticScene& scene, const Rigid& pose, int contacts, double penetration) {
+    maxContacts = std::max(maxContacts, contacts);
+    contactSum += contacts;
+    maxPenetration = std::max(maxPenetration, penetration);
+    const Vec3 c = pose.translation();
+    if (scene.checks.hasInsert) {
+      const double reach = scene.checks.insertAxis.dot(c);
+      insertProgress = std::max(insertProgress, reach);
+      if (reach >= scene.checks.insertDepth) inserted = true;
+    }
+    if (scene.checks.hasTunnel && scene.checks.tunnelNormal.dot(c) > scene.checks.tunnelOffset) tunneled = true;
+  }
+};
+
+template <class Field>
+HapticSessionResult runWithField(const HapticScene& scene, const Field& field, const HapticSessionSettings& settings) {
+  const double seconds = settings.seconds > 0.0 ? settings.seconds : scene.seconds;
+  if (!(seconds > 0.0) || !std::isfinite(seconds) || seconds > 3600.0) throw Error("session: seconds must be in (0, 3600]");
+  if (settings.simCyclesPerTick < 1 || settings.simCyclesPerTick > 1000)
+    throw Error("session: simCyclesPerTick must be in [1, 1000]");
+  const std::int64_t ticks = static_cast<std::int64_t>(std::llround(seconds * scene.device.rateHz));
+  const PointTree& tree = *scene.tree;
+  const bool constraint =
+      settings.method == HapticMethod::Constraint || settings.method == HapticMethod::DiscreteConstraint;
+
+  DeviceEmulator device(scene.device, scene.script, scene.worldFromBodyStart);
+  HapticSessionResult result;
+  if (settings.recordTicks) result.ticks.reserve(static_cast<std::size_t>(ticks));
+  SimulationLog log;
+  LatestValue<Rigid> devicePose;
+  LatestValue<SimulationOutput> simulationOutput;
+  RigidCcdResult penetrationScratch;
+
+  const auto record = [&](const DeviceState& state, const SimulationOutput& sim) {
+    if (!settings.recordTicks) return;
+    HapticTickRecord row;
+    row.tick = state.tick;
+    row.time = state.time;
+    row.worldFromDevice = state.body.worldFromBody;
+    row.worldFromSimulation = sim.worldFromSimulation;
+    row.wrenchOnDevice = sim.wrenchOnDevice;
+    row.contacts = sim.contacts;
+    row.penetration = sim.penetration;
+    row.qpState = sim.qpState;
+    row.simCycleMs = sim.cycleMs;
+    result.ticks.push_back(row);
+  };
+
+  LoopTimingStats timing;
+  if (constraint) {
+    GodObjectSettings godSettings = scene.god;
+    godSettings.continuous = settings.method == HapticMethod::Constraint;
+    godSettings.threads = settings.ccdThreads;
+    GodObject<Field> god(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, godSettings);
+    const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
+    // One simulation cycle: the timed QP + CCD, then the (untimed) penetration measurement.
+    const auto cycle = [&](const Rigid& worldFromDevice) {
+      const auto t0 = Clock::now();
+      const GodObjectStepResult r = god.step(worldFromDevice);
+      const auto t1 = Clock::now();
+      log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      SimulationOutput out;
+      out.cycleMs = log.cycleMs.back();
+      out.wrenchOnDevice = r.wrenchOnDevice;
+      out.worldFromSimulation = god.pose();
+      out.contacts = r.nextContactCount;
+      out.penetration = measurePenetration(tree, field, sdfFromWorld * god.pose(), penetrationScratch);
+      out.qpState = static_cast<int>(r.qpState);
+      log.stuck += r.qpState == ContactQpState::Stuck;
+      log.failed += r.qpState == ContactQpState::Failed;
+      log.blocked += r.blocked;
+      log.observe(scene, god.pose(), out.contacts, out.penetration);
+      return out;
+    };
+    SimulationOutput initial;
+    initial.worldFromSimulation = scene.worldFromBodyStart;
+    simulationOutput.publish(initial);
+    if (settings.realTime) {
+      std::atomic<bool> stop{false};
+      devicePose.publish(scene.worldFromBodyStart);
+      std::thread simulation([&] {
+        Rigid pose = Rigid::Identity();
+        while (!stop.load(std::memory_order_acquire)) {
+          devicePose.read(pose);
+          simulationOutput.publish(cycle(pose));
+        }
+      });
+      device.start(
+          [&](const DeviceState& state) {
+            devicePose.publish(state.body.worldFromBody);
+            SimulationOutput sim;
+            simulationOutput.read(sim);
+            record(state, sim);
+            return sim.wrenchOnDevice;
+          },
+          ticks);
+      device.wait();
+      stop.store(true, std::memory_order_release);
+      simulation.join();
+      timing = device.stats();
+    } else {
+      timing = device.runVirtual(ticks, [&](const DeviceState& state) {
+        SimulationOutput sim;
+        for (int n = 0; n < settings.simCyclesPerTick; ++n) sim = cycle(state.body.worldFromBody);
+        record(state, sim);
+        return sim.wrenchOnDevice;
+      });
+    }
+    result.summary.finalPosition = god.pose().translation();
+  } else {
+    PenaltyRendererSettings penaltySettings = scene.penalty;
+    penaltySettings.contact.model =
+        settings.method == HapticMethod::Penalty ? PenaltyModel::Continuous : PenaltyModel::Discrete;
+    penaltySettings.timestep = 1.0 / scene.device.rateHz;
+    penaltySettings.threads = settings.ccdThreads;
+    PenaltyRenderer<Field> renderer(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, penaltySettings);
+    const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
+    // The penalty step runs in the haptic loop itself (one step per tick).
+    const TickHandler handler = [&](const DeviceState& state) {
+      const auto t0 = Clock::now();
+      const PenaltyStepResult r = renderer.step(state.body);
+      const auto t1 = Clock::now();
+      log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      SimulationOutput sim;
+      sim.cycleMs = log.cycleMs.back();
+      sim.wrenchOnDevice = r.wrenchOnDevice;
+      sim.worldFromSimulation = renderer.state().worldFromBody;
+      sim.contacts = r.contactCount;
+      sim.penetration =
+          measurePenetration(tree, field, sdfFromWorld * renderer.state().worldFromBody, penetrationScratch);
+      log.observe(scene, renderer.state().worldFromBody, sim.contacts, sim.penetration);
+      record(state, sim);
+      return sim.wrenchOnDevice;
+    };
+    if (settings.realTime) {
+      device.start(handler, ticks);
+      device.wait();
+      timing = device.stats();
+    } else {
+      timing = device.runVirtual(ticks, handler);
+    }
+    result.summary.finalPosition = renderer.state().worldFromBody.translation();
+  }
+
+  HapticSessionSummary& s = result.summary;
+  s.scene = scene.name;
+  s.method = toString(settings.method);
+  s.realTime = settings.realTime;
+  s.seconds = seconds;
+  s.hasInsertCheck = scene.checks.hasInsert;
+  s.inserted = log.inserted;
+  s.insertProgress = scene.checks.hasInsert ? log.insertProgress : 0.0;
+  s.maxPenetrationCells = log.maxPenetration / scene.cellSize;
+  s.hasTunnelCheck = scene.checks.hasTunnel;
+  s.tunneled = log.tunneled;
+  s.hapticRateHz = timing.achievedRateHz;
+  s.hapticTicks = timing.ticks;
+  s.hapticOverruns = timing.overruns;
+  s.hapticJitterP99Us = timing.jitterP99Us;
+  s.simCycles = static_cast<std::int64_t>(log.cycleMs.size());
+  s.simCycleP50Ms = percentile(log.cycleMs, 50.0);
+  s.simCycleP99Ms = percentile(log.cycleMs, 99.0);
+  s.simCycleMaxMs = log.cycleMs.empty() ? 0.0 : *std::max_element(log.cycleMs.begin(), log.cycleMs.end());
+  s.maxContacts = log.maxContacts;
+  s.meanContacts = log.cycleMs.empty() ? 0.0 : log.contactSum / static_cast<double>(log.cycleMs.size());
+  s.stuckCycles = log.stuck;
+  s.failedCycles = log.failed;
+  s.blockedCycles = log.blocked;
+  s.shellPoints = tree.pointCount();
+  return result;
+}
+
+}  // namespace
+
+HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings) {
+  if (!scene.tree) throw Error("session: the scene has no shell");
+  if (scene.plane) return runWithField(scene, *scene.plane, settings);
+  if (!scene.grid) throw Error("session: the scene has no static object");
+  return runWithField(scene, *scene.grid, settings);
+}
+
+void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks) {
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
+  out << "tick,time,device_x,device_y,device_z,device_qw,device_qx,device_qy,device_qz,"
+         "sim_x,sim_y,sim_z,sim_qw,sim_qx,sim_qy,sim_qz,force_x,force_y,force_z,torque_x,torque_y,torque_z,"
+         "contacts,penetration,qp_state,sim_cycle_ms\n";
+  out << std::setprecision(9);
+  const auto pose = [&](const Rigid& r) {
+    const Quat q(r.linear());
+    out << r.translation().x() << ',' << r.translation().y() << ',' << r.translation().z() << ',' << q.w() << ','
+        << q.x() << ',' << q.y() << ',' << q.z() << ',';
+  };
+  for (const HapticTickRecord& t : ticks) {
+    out << t.tick << ',' << t.time << ',';
+    pose(t.worldFromDevice);
+    pose(t.worldFromSimulation);
+    for (int i = 0; i < 6; ++i) out << t.wrenchOnDevice[i] << ',';
+    out << t.contacts << ',' << t.penetration << ',' << t.qpState << ',' << t.simCycleMs << '\n';
+  }
+  file.commit();
+}
+
+std::string summaryJson(const HapticSessionSummary& s) {
+  std::ostringstream o;
+  o << std::setprecision(9) << std::boolalpha;
+  const auto num = [](double v) {
+    std::ostringstream n;
+    n << std::setprecision(9);
+    if (std::isfinite(v)) n << v; else n << "null";
+    return n.str();
+  };
+  o << "{\n"
+    << "  \"scene\": \"" << s.scene << "\",\n"
+    << "  \"method\": \"" << s.method << "\",\n"
+    << "  \"real_time\": " << s.realTime << ",\n"
+    << "  \"seconds\": " << num(s.seconds) << ",\n"
+    << "  \"inserted\": " << (s.hasInsertCheck ? (s.inserted ? "true" : "false") : "null") << ",\n"
+    << "  \"insert_progress\": " << num(s.insertProgress) << ",\n"
+    << "  \"max_penetration_cells\": " << num(s.maxPenetrationCells) << ",\n"
+    << "  \"tunneled\": " << (s.hasTunnelCheck ? (s.tunneled ? "true" : "false") : "null") << ",\n"
+    << "  \"haptic_rate_hz\": " << num(s.hapticRateHz) << ",\n"
+    << "  \"haptic_ticks\": " << s.hapticTicks << ",\n"
+    << "  \"haptic_overruns\": " << s.hapticOverruns << ",\n"
+    << "  \"haptic_jitter_p99_us\": " << num(s.hapticJitterP99Us) << ",\n"
+    << "  \"sim_cycles\": " << s.simCycles << ",\n"
+    << "  \"sim_cycle_p50_ms\": " << num(s.simCycleP50Ms) << ",\n"
+    << "  \"sim_cycle_p99_ms\": " << num(s.simCycleP99Ms) << ",\n"
+    << "  \"sim_cycle_max_ms\": " << num(s.simCycleMaxMs) << ",\n"
+    << "  \"max_contacts\": " << s.maxContacts << ",\n"
+    << "  \"mean_contacts\": " << num(s.meanContacts) << ",\n"
+    << "  \"stuck_cycles\": " << s.stuckCycles << ",\n"
+    << "  \"failed_cycles\": " << s.failedCycles << ",\n"
+    << "  \"blocked_cycles\": " << s.blockedCycles << ",\n"
+    << "  \"shell_points\": " << s.shellPoints << ",\n"
+    << "  \"final_position\": [" << num(s.finalPosition.x()) << ", " << num(s.finalPosition.y()) << ", "
+    << num(s.finalPosition.z()) << "]\n"
+    << "}\n";
+  return o.str();
+}
+
+}  // namespace sdfccd::haptics
