@@ -199,7 +199,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   Json root;
   try {
     root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse errors, and number overflow (1e999) as out_of_range
     std::string what = e.what();
     r.fail("", "is not valid JSON (" + what.substr(0, what.find('\n')) + ")");
   }

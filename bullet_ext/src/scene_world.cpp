@@ -147,7 +147,9 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
     Rigid worldFromModel = Rigid::Identity();
     worldFromModel.linear() = b.orientation.toRotationMatrix();
     worldFromModel.translation() = b.position;
-    const Rigid worldFromBody = worldFromModel * model.modelFromBody();
+    // "position" places the centre of mass, "orientation" turns the mesh's own axes.
+    Rigid worldFromBody = worldFromModel * model.modelFromBody();
+    worldFromBody.translation() = b.position;
     const Quat q(worldFromBody.linear());
     btTransform start(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
                       toBt(Vec3(worldFromBody.translation())));

@@ -78,6 +78,7 @@ struct SdfccdContactSystem::Record {
   double maxPenetrationCells = 0.0;
   double firstFraction = 1.0;
   bool clamp = false;
+  bool applied = false;  // SameStep: the penalty impulses are already in the velocities
   double clampFraction = 1.0;
   Vec3 clampNormal = Vec3::Zero();  // world, out of the field body
   Vec3 clampPoint = Vec3::Zero();   // world, the first-contact point at the clamp fraction
@@ -321,7 +322,24 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     }
     if (record.clamp && !record.clampNormal.allFinite()) record.clamp = false;
   }
+  if (m_settings.forceTiming == SdfccdForceTiming::SameStep && !record.clamp) {
+    applyPenaltyImpulses(record);
+    record.applied = true;
+  }
   m_records.push_back(record);
+}
+
+void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {
+  for (int side = 0; side < 2; ++side) {
+    btRigidBody* body = m_bodies[side == 0 ? r.shell : r.field].body;
+    if (body == nullptr) continue;
+    const Vec3& impulse = side == 0 ? r.penalty.impulseOnShell : r.penalty.impulseOnField;
+    const Vec3& angular = side == 0 ? r.penalty.angularImpulseOnShell : r.penalty.angularImpulseOnField;
+    if (impulse.isZero(0.0) && angular.isZero(0.0)) continue;
+    body->applyCentralImpulse(toBt(impulse));
+    if (!angular.isZero(0.0)) body->applyTorqueImpulse(toBt(angular));
+    if (body->getActivationState() == ISLAND_SLEEPING) body->activate();
+  }
 }
 
 void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
@@ -377,23 +395,10 @@ void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
       if (fieldBody->getActivationState() == ISLAND_SLEEPING) fieldBody->activate();
     }
   }
-  // 3. Penalty impulses (eq. 5: F* dt) of the pairs whose bodies were not moved back.
+  // 3. NextStep timing: penalty impulses (eq. 5: F* dt) of the pairs whose bodies were not moved back.
   for (const Record& r : m_records) {
-    const bool skip = r.clamp || m_bodies[r.shell].clamped || m_bodies[r.field].clamped;
-    if (!skip) {
-      const std::pair<btRigidBody*, const PenaltyResult*> sides[2] = {{m_bodies[r.shell].body, &r.penalty},
-                                                                      {m_bodies[r.field].body, &r.penalty}};
-      for (int s = 0; s < 2; ++s) {
-        btRigidBody* body = sides[s].first;
-        if (body == nullptr) continue;
-        const Vec3& impulse = s == 0 ? r.penalty.impulseOnShell : r.penalty.impulseOnField;
-        const Vec3& angular = s == 0 ? r.penalty.angularImpulseOnShell : r.penalty.angularImpulseOnField;
-        if (impulse.isZero(0.0) && angular.isZero(0.0)) continue;
-        body->applyCentralImpulse(toBt(impulse));
-        if (!angular.isZero(0.0)) body->applyTorqueImpulse(toBt(angular));
-        if (body->getActivationState() == ISLAND_SLEEPING) body->activate();
-      }
-    }
+    const bool skip = r.applied || r.clamp || m_bodies[r.shell].clamped || m_bodies[r.field].clamped;
+    if (!skip) applyPenaltyImpulses(r);
     SdfccdPairContact report;
     report.shellObject = m_bodies[r.shell].object;
     report.fieldObject = m_bodies[r.field].object;

@@ -39,8 +39,8 @@ struct SceneBody {
   std::string shell;                       ///< optional precomputed shell, resolved path
   double scale = 1.0;                      ///< uniform scale of the mesh
   double mass = 1.0;                       ///< kg (ignored for static bodies)
-  Vec3 position = Vec3::Zero();            ///< of the mesh frame's origin, world (m)
-  Quat orientation = Quat::Identity();     ///< of the mesh frame, world
+  Vec3 position = Vec3::Zero();            ///< of the centre of mass, world (m)
+  Quat orientation = Quat::Identity();     ///< of the mesh's own axes, world
   Vec3 velocity = Vec3::Zero();            ///< m/s, of the centre of mass
   Vec3 angularVelocity = Vec3::Zero();     ///< rad/s, world
   bool isStatic = false;

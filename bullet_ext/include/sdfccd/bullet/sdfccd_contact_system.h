@@ -11,10 +11,11 @@
 ///    is the actual end of the step because our contacts add no solver rows. (getInterpolationWorldTransform
 ///    at this point omits gravity: it is off by g dt^2.) The continuous penalty model integrates impulse and
 ///    angular impulse over the contact sub-intervals (eqs. 3-4) — or the discrete model at the end pose.
-/// 2. After integration (this object is a btActionInterface; updateAction runs after integrateTransforms):
-///    time-of-impact clamping first, then the penalty impulses I and M are applied to the velocities. That
-///    is eq. (5): the averaged force F* = I/dt acting over the next step, applied as the impulse F* dt at its
-///    start (forces applied with applyCentralForce would accumulate over substeps until clearForces).
+/// 2. The impulses I and M reach the velocities as impulses (eq. 5: the averaged force F* = I/dt acting over
+///    a step is the impulse F* dt; forces applied with applyCentralForce would accumulate over substeps
+///    until clearForces). When, is a setting (SdfccdForceTiming): the paper's "over the next step" (in
+///    updateAction: this object is a btActionInterface, run after integrateTransforms), or at once in the
+///    narrowphase, before Bullet integrates the same step (the default: stable at stiffer settings).
 /// 3. Time-of-impact clamping (beyond the paper): averaged penalty forces act one step late and cannot stop a
 ///    fast body at a thin wall. When a shell point *entered* the contact set during the step (state Hit) and
 ///    either left it again before the step's end (it passed through) or ends deeper than
@@ -58,8 +59,21 @@ namespace sdfccd {
 
 class SdfccdShape;
 
+/// When the step's penalty impulses reach the velocities.
+enum class SdfccdForceTiming : std::uint8_t {
+  /// Paper, Section 4.1 literally: I and M from the step's motion act over the *next* step (applied after
+  /// integrateTransforms). The force lags the motion by half a step on average, which feeds energy into a
+  /// stiff contact (for a linear spring the amplification per step is sqrt(1 + (omega dt)^2 / 2)); damping
+  /// must absorb it.
+  NextStep,
+  /// Predictive: I and M are integrated over the step's predicted motion and applied at once, before
+  /// Bullet integrates the step (a semi-implicit step: dissipative, stable for omega dt < 2).
+  SameStep,
+};
+
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
+  SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< see SdfccdForceTiming
   PenaltySettings penalty;            ///< model (continuous/discrete), stiffness, damping, subintervals, flags
   bool timeOfImpactClamp = true;      ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;         ///< clamp when an entering point ends deeper than this (field cells)
@@ -133,6 +147,7 @@ class SdfccdContactSystem : public btActionInterface {
   struct Record;
   struct Role;
   BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep);
+  void applyPenaltyImpulses(const Record& record);
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);

@@ -1,0 +1,97 @@
+// The dispatcher finds our algorithm for every pair involving SdfccdShape, in both orders, for contacts and
+// closest points; other partners get no contact (and never Bullet's btSdfCollisionShape cast).
+#include <gtest/gtest.h>
+
+#include <btBulletDynamicsCommon.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
+
+#include "sdfccd/bullet/sdfccd_collision_algorithm.h"
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/error.h"
+#include "sdfccd/procedural_meshes.h"
+
+namespace sdfccd {
+namespace {
+
+std::shared_ptr<const SdfccdBodyModel> smallSphereModel() {
+  SdfccdBodyModelSettings s;
+  s.resolution = 16;
+  s.points = 100;
+  return SdfccdBodyModel::buildFromMesh(makeIcosphere(0.1, 2), s);
+}
+
+enum class Found { Ours, Empty, Other, None };
+
+Found find(btCollisionDispatcher& dispatcher, btCollisionShape* a, btCollisionShape* b, ebtDispatcherQueryType type) {
+  btCollisionObject objectA, objectB;
+  objectA.setCollisionShape(a);
+  objectB.setCollisionShape(b);
+  btCollisionObjectWrapper wrapA(nullptr, a, &objectA, objectA.getWorldTransform(), -1, -1);
+  btCollisionObjectWrapper wrapB(nullptr, b, &objectB, objectB.getWorldTransform(), -1, -1);
+  btCollisionAlgorithm* algorithm = dispatcher.findAlgorithm(&wrapA, &wrapB, nullptr, type);
+  if (algorithm == nullptr) return Found::None;
+  Found found = Found::Other;
+  if (dynamic_cast<SdfccdCollisionAlgorithm*>(algorithm) != nullptr) found = Found::Ours;
+  if (dynamic_cast<btEmptyAlgorithm*>(algorithm) != nullptr) found = Found::Empty;
+  algorithm->~btCollisionAlgorithm();
+  dispatcher.freeCollisionAlgorithm(algorithm);
+  return found;
+}
+
+TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  auto system = registerSdfccdAlgorithms(&dispatcher);
+  SdfccdShape ours(smallSphereModel());
+  SdfccdShape other(smallSphereModel());
+  btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
+  btBoxShape box(btVector3(1, 1, 1));
+  btSphereShape sphere(1);
+  for (ebtDispatcherQueryType type : {BT_CONTACT_POINT_ALGORITHMS, BT_CLOSEST_POINT_ALGORITHMS}) {
+    EXPECT_EQ(find(dispatcher, &ours, &other, type), Found::Ours);
+    EXPECT_EQ(find(dispatcher, &ours, &plane, type), Found::Ours);
+    EXPECT_EQ(find(dispatcher, &plane, &ours, type), Found::Ours);
+    // Unsupported partners: no contact, instead of Bullet's cast to btSdfCollisionShape.
+    EXPECT_EQ(find(dispatcher, &ours, &box, type), Found::Empty);
+    EXPECT_EQ(find(dispatcher, &sphere, &ours, type), Found::Empty);
+  }
+  EXPECT_EQ(ours.getShapeType(), CUSTOM_CONCAVE_SHAPE_TYPE);
+  EXPECT_TRUE(isSdfccdShape(&ours));
+  EXPECT_FALSE(isSdfccdShape(&box));
+}
+
+TEST(Registration, ShapeMassPropertiesAndScaling) {
+  auto model = smallSphereModel();
+  SdfccdShape shape(model);
+  btVector3 inertia;
+  shape.calculateLocalInertia(2.0f, inertia);
+  // A fine icosphere is close to a solid sphere: 2/5 m r^2 (the polyhedron is slightly smaller).
+  EXPECT_NEAR(inertia.x(), 0.4 * 2.0 * 0.01, 0.05 * 0.4 * 2.0 * 0.01);
+  EXPECT_NEAR(inertia.x(), inertia.y(), 1e-6);
+  EXPECT_THROW(shape.setLocalScaling(btVector3(2, 2, 2)), Error);
+  EXPECT_NO_THROW(shape.setLocalScaling(btVector3(1, 1, 1)));
+  EXPECT_THROW(SdfccdShape(nullptr), Error);
+}
+
+// A ray cast reaches the mesh through processAllTriangles (the reason for a concave-range type id).
+TEST(Registration, RayTestHitsTheMesh) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world(&dispatcher, &broadphase, &configuration);
+  auto system = registerSdfccdAlgorithms(&dispatcher);
+  SdfccdShape shape(smallSphereModel());
+  btCollisionObject object;
+  object.setCollisionShape(&shape);
+  world.addCollisionObject(&object);
+  btCollisionWorld::ClosestRayResultCallback ray(btVector3(0, 1, 0), btVector3(0, -1, 0));
+  world.rayTest(btVector3(0, 1, 0), btVector3(0, -1, 0), ray);
+  ASSERT_TRUE(ray.hasHit());
+  EXPECT_NEAR(ray.m_hitPointWorld.y(), 0.1, 0.01);
+  world.removeCollisionObject(&object);
+}
+
+}  // namespace
+}  // namespace sdfccd
