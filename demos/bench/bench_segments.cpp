@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -47,6 +48,8 @@ struct BenchSegmentsOptions {
   std::string mesh;
   std::string cache = "out/cache";
   long long segments = 0;  // 0: 10^6 (10^5 with --quick)
+  std::string method;      // only this method (empty: both)
+  std::string octree;      // only this octree mode (empty: all)
   unsigned seed = 1;
 };
 
@@ -54,8 +57,16 @@ struct Segment {
   Vec3 p0, p1;
 };
 
+// CPU time of the calling thread (s): the machine may be shared, and wall time would count other processes.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 struct RunStats {
-  double microseconds = 0.0;  // per segment
+  double microseconds = 0.0;      // per segment, thread CPU time
+  double wallMicroseconds = 0.0;  // per segment, wall-clock time
   long long hits = 0;
   std::vector<float> fractions;  // first hit per segment, -1 when none
 };
@@ -72,6 +83,7 @@ RunStats timeQueries(const GridField& field, const std::vector<Segment>& segment
   if (keepFractions) stats.fractions.assign(count, -1.0f);
   SegmentCcdResult r;
   const auto start = std::chrono::steady_clock::now();
+  const double cpuStart = threadCpuSeconds();
   for (std::size_t n = 0; n < count; ++n) {
     field.intersectSegment(segments[n].p0, segments[n].p1, settings, r);
     if (r.hit()) {
@@ -79,8 +91,10 @@ RunStats timeQueries(const GridField& field, const std::vector<Segment>& segment
       if (keepFractions) stats.fractions[n] = static_cast<float>(r.fraction);
     }
   }
+  const double cpu = threadCpuSeconds() - cpuStart;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  stats.microseconds = 1e6 * seconds / static_cast<double>(std::max<std::size_t>(count, 1));
+  stats.microseconds = 1e6 * cpu / static_cast<double>(std::max<std::size_t>(count, 1));
+  stats.wallMicroseconds = 1e6 * seconds / static_cast<double>(std::max<std::size_t>(count, 1));
   return stats;
 }
 
@@ -189,14 +203,14 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
   if (!o.csv.empty()) {
     csv.open(o.csv);
     if (!csv) throw Error("cannot write '" + o.csv + "'");
-    csv << "protocol,field,cells,method,octree,segments,us_per_segment,s_per_1e6,paper_s_per_1e6,hits,"
+    csv << "protocol,field,cells,method,octree,segments,us_per_segment_cpu,us_per_segment_wall,paper_s_per_1e6,hits,"
            "octree_memory_ratio,machine\n";
   }
   auto csvRow = [&](const char* protocol, const std::string& field, int cells, const char* method,
                     const char* octree, std::size_t n, const RunStats& r, double paper, double ratio) {
     if (!csv) return;
     csv << protocol << ',' << field << ',' << cells << ',' << method << ',' << octree << ',' << n << ','
-        << r.microseconds << ',' << r.microseconds << ',' << paper << ',' << r.hits << ',' << ratio << ",\""
+        << r.microseconds << ',' << r.wallMicroseconds << ',' << paper << ',' << r.hits << ',' << ratio << ",\""
         << machineDescription() << "\"\n";
   };
 
@@ -213,8 +227,13 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
       {CcdMethod::Bisection, OctreeMode::Full, "bisection", "full"},
   };
 
+  auto selected = [&](const Config& c) {
+    return (o.method.empty() || o.method == c.methodName) && (o.octree.empty() || o.octree == c.octreeName);
+  };
+  const bool everything = o.method.empty() && o.octree.empty();
+  std::printf("times: thread CPU time per segment (us = s per 10^6 segments); wall time in the CSV\n");
   std::printf("\n%-22s %7s %-10s %-7s %9s %12s %12s %12s %9s\n", "protocol", "cells", "method", "octree", "segments",
-              "us/segment", "s per 1e6", "paper s/1e6", "hits");
+              "us/segment", "wall us/seg", "paper s/1e6", "hits");
   for (const PaperTable2& row : rows) {
     const auto grid = o.field.empty() ? bunnyField(o, row.resolution)
                                       : std::make_shared<const SdfGrid>(loadSdf(o.field));
@@ -234,6 +253,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     const std::size_t uniformCount = std::min<std::size_t>(random.size(), 200000);
     double exactFull = 0.0, bisectionFull = 0.0;
     for (const Config& c : configs) {
+      if (!selected(c)) continue;
       const std::size_t n = c.octree == OctreeMode::Off ? uniformCount : random.size();
       const RunStats r = timeQueries(field, random, c.method, c.octree, n, false);
       double paper = 0.0;
@@ -243,28 +263,30 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
       char paperText[32] = "-";
       if (paper > 0.0) std::snprintf(paperText, sizeof(paperText), "%.1f", paper);
       std::printf("%-22s %7d %-10s %-7s %9zu %12.3f %12.2f %12s %9lld\n", "table2-random", cells, c.methodName,
-                  c.octreeName, n, r.microseconds, r.microseconds, paperText, r.hits);
+                  c.octreeName, n, r.microseconds, r.wallMicroseconds, paperText, r.hits);
       csvRow("table2-random", fieldName, cells, c.methodName, c.octreeName, n, r, paper, ratio);
     }
-    std::printf("   exact/bisection time ratio (full octree): %.2f (paper: 1.2)\n", exactFull / bisectionFull);
+    if (everything) std::printf("   exact/bisection time ratio (full octree): %.2f (paper: 1.2)\n", exactFull / bisectionFull);
 
     // Protocol 2: haptic rate.
     const std::vector<Segment> haptic = hapticSegments(field, static_cast<std::size_t>(count), o.seed + 1);
     double hapticTimes[3] = {0, 0, 0};
     for (const Config& c : configs) {
+      if (!selected(c)) continue;
       const RunStats r = timeQueries(field, haptic, c.method, c.octree, haptic.size(), false);
       if (c.method == CcdMethod::Exact) hapticTimes[static_cast<int>(c.octree)] = r.microseconds;
       std::printf("%-22s %7d %-10s %-7s %9zu %12.3f %12.2f %12s %9lld\n", "haptic-short", cells, c.methodName,
-                  c.octreeName, haptic.size(), r.microseconds, r.microseconds, "-", r.hits);
+                  c.octreeName, haptic.size(), r.microseconds, r.wallMicroseconds, "-", r.hits);
       csvRow("haptic-short", fieldName, cells, c.methodName, c.octreeName, haptic.size(), r, 0.0, ratio);
     }
     const double off = hapticTimes[static_cast<int>(OctreeMode::Off)];
     const double leaves = hapticTimes[static_cast<int>(OctreeMode::Leaves)];
     const double full = hapticTimes[static_cast<int>(OctreeMode::Full)];
-    std::printf("   haptic, exact: off/leaves = %.2f (paper: 1.5), full/leaves = %.2f (paper: 2-3)\n", off / leaves,
+    if (everything) std::printf("   haptic, exact: off/leaves = %.2f (paper: 1.5), full/leaves = %.2f (paper: 2-3)\n", off / leaves,
                 full / leaves);
 
     // Protocol 3: bisection's misses on this field.
+    if (!everything) continue;
     const MissStats mr = compareFirstHits(field, random, std::min<std::size_t>(random.size(), 200000));
     const MissStats mh = compareFirstHits(field, haptic, haptic.size());
     std::printf("   bisection vs exact, random: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
@@ -282,7 +304,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
   }
 
   // Protocol 3 on a random field: independent node values in [-1, 1], several roots per cell.
-  {
+  if (everything) {
     const int n = 33;
     std::mt19937 rng(o.seed);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -320,6 +342,8 @@ const BenchRegistrar registrar("segments", "Table 2: segment CCD, uniform walk v
                                  sub.add_option("--cache", o->cache, "Folder of cached bunny fields (default out/cache)");
                                  sub.add_option("--segments", o->segments, "Segments per protocol (default 1e6; 1e5 quick)");
                                  sub.add_option("--seed", o->seed, "Random seed");
+                                 sub.add_option("--method", o->method, "Only this method (exact or bisection)");
+                                 sub.add_option("--octree", o->octree, "Only this octree mode (full, leaves or off)");
                                  return std::function<int()>([o]() { return runBenchSegments(*o); });
                                });
 
