@@ -2,19 +2,25 @@
 /// @brief buildSdf: exact distances per block of nodes with candidate triangles, then the sign (paper
 /// Section 5, Table 1).
 ///
-/// @details Distance pass, per block of up to 8^3 nodes (one task of parallelFor):
-///  1. d_c = exact distance from the block centre c (BVH query); every node p of the block then has
-///     d(p) <= d_c + r, r the block's half-diagonal.
-///  2. Candidates: the triangles whose bounding box is within d_c + r of the block's box (BVH traversal).
-///     Each gets the key k_t = distance from c to its box, a lower bound of d(c, t); candidates are sorted
-///     by key into float SoA arrays (box corners rounded outward, so float bounds stay conservative).
-///  3. Per node p (|p - c| = r_p), warm-started with the previous node's closest triangle: walk the
-///     candidates in chunks of 16; stop when k_t - r_p > best (then d(p, t) >= k_t - r_p > best for all
-///     remaining t); within a chunk the box lower bounds are computed branch-free (vectorized), and only
-///     triangles whose box may beat the current best get the exact double closest-point test.
-/// Sign pass: pseudonormal of the closest feature (closed meshes), or the fast winding number per node;
-/// a block whose ball holds no surface and whose centre winding number is clearly 0 or 1 (|w - 1/2| >
-/// 1/4) takes that sign for all its nodes (w is continuous off the surface and, on closed parts, constant).
+/// @details Distance pass: the grid is cut into blocks of up to 8^3 nodes, one parallel task each, and each
+/// block is refined like an octree (8 -> 4 -> 2 nodes per side). A box of nodes with centre c and
+/// half-diagonal r keeps a candidate list: the triangles whose bounding box lies within d(c) + r of the box,
+/// d(c) the exact distance from c. Every node p of the box has d(p) <= d(c) + r, so its closest triangle is
+/// in the list. The block's list comes from the BVH; each child's list is filtered from its parent's (its
+/// d(c) found within the parent's list), so lists shrink with the box. At 2^3 nodes, every node finds its
+/// exact closest triangle in the list in three stages of increasing cost and decreasing count:
+///  1. float box lower bounds of all candidates (SoA, eight at a time), keeping those below the current best
+///     (warm start: the previous node's closest triangle, whose exact distance is an upper bound);
+///  2. a float point-triangle distance of the survivors (branch-free, eight at a time) that never exceeds
+///     the true distance by more than the float rounding allowance;
+///  3. the exact double closest point (Ericson) by increasing float estimate, until the estimate exceeds
+///     the best exact distance.
+/// Float bounds stay conservative: boxes are rounded outward and every comparison carries an allowance
+/// for float rounding, so the result equals the brute-force minimum over all triangles.
+/// Sign: the pseudonormal of the closest feature, right in the distance pass (closed meshes); or a second
+/// pass with the fast winding number per node (open meshes); a block whose ball holds no surface and whose
+/// centre winding number is clearly 0 or 1 (|w - 1/2| > 1/4) takes that sign for all its nodes (w is
+/// continuous off the surface and, on closed parts, constant).
 #include "sdfccd/sdf_builder.h"
 
 #include <algorithm>
@@ -22,7 +28,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 
@@ -107,27 +116,13 @@ SdfGridLayout computeSdfGridLayout(const Box3& meshBounds, const SdfBuildSetting
 
 namespace {
 
-constexpr int kBlock = 8;   // nodes per block side
+constexpr int kBlock = 8;   // nodes per block side (a parallel task)
 constexpr int kChunk = 16;  // candidates per vectorized chunk
+constexpr int kLevels = 3;  // candidate lists for boxes of 8, 4 and 2 nodes per side
 
 struct Block {
   Vec3i begin;  // first node
   Vec3i end;    // one past the last node
-};
-
-// Per-thread scratch, reused across blocks.
-struct Scratch {
-  std::vector<int> candidates;
-  std::vector<std::pair<float, int>> sorted;
-  std::vector<float> key, lox, loy, loz, hix, hiy, hiz;
-  std::vector<int> position;
-  std::size_t candidateTotal = 0;
-};
-
-struct Context {
-  const TriangleBvh* bvh;
-  const SdfGridLayout* layout;
-  float slack;  // absolute float rounding allowance on lower bounds (model units)
 };
 
 float roundDown(double v) {
@@ -139,109 +134,369 @@ float roundUp(double v) {
   return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
-// The distance pass of one block: writes |distance| to outDistance and the closest triangle position and
-// feature per node (for the sign). Compiled for AVX2 and baseline; the loader picks at run time.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("avx2", "default")))
+// Candidate triangles as float SoA boxes (rounded outward) plus their BVH positions, padded with boxes at
+// infinity to a multiple of kChunk so that chunk loops need no tail.
+struct CandidateList {
+  std::vector<float> key, lox, loy, loz, hix, hiy, hiz;
+  std::vector<int> position;
+  std::size_t size = 0;
+
+  void clear() {
+    size = 0;
+    position.clear();
+    for (auto* v : {&key, &lox, &loy, &loz, &hix, &hiy, &hiz}) v->clear();
+  }
+  void push(float k, float x0, float y0, float z0, float x1, float y1, float z1, int q) {
+    key.push_back(k);
+    lox.push_back(x0);
+    loy.push_back(y0);
+    loz.push_back(z0);
+    hix.push_back(x1);
+    hiy.push_back(y1);
+    hiz.push_back(z1);
+    position.push_back(q);
+    ++size;
+  }
+  void pad() {
+    const float inf = std::numeric_limits<float>::infinity();
+    while (position.size() % kChunk != 0) {
+      key.push_back(inf);
+      for (auto* v : {&lox, &loy, &loz, &hix, &hiy, &hiz}) v->push_back(inf);
+      position.push_back(-1);
+    }
+  }
+  std::size_t padded() const { return position.size(); }
+  std::size_t bytes() const { return position.capacity() * (sizeof(int) + 7 * sizeof(float)); }
+};
+
+
+// The triangles in BVH order as float SoA, for the vectorized distance screen of closestInList().
+struct TriangleSoa {
+  std::vector<float> ax, ay, az, bx, by, bz, cx, cy, cz;  // corners
+  std::vector<float> nx, ny, nz;                          // unit normal
+  std::vector<float> invAB, invBC, invCA;                 // 1 / squared edge lengths
+
+  explicit TriangleSoa(const TriangleBvh& bvh) {
+    const std::size_t n = bvh.size();
+    for (auto* v : {&ax, &ay, &az, &bx, &by, &bz, &cx, &cy, &cz, &nx, &ny, &nz, &invAB, &invBC, &invCA}) v->resize(n);
+    for (std::size_t q = 0; q < n; ++q) {
+      const int i = static_cast<int>(q);
+      const Vec3 &a = bvh.a(i), &b = bvh.b(i), &c = bvh.c(i);
+      const Vec3 normal = (b - a).cross(c - a).normalized();
+      ax[q] = static_cast<float>(a.x()), ay[q] = static_cast<float>(a.y()), az[q] = static_cast<float>(a.z());
+      bx[q] = static_cast<float>(b.x()), by[q] = static_cast<float>(b.y()), bz[q] = static_cast<float>(b.z());
+      cx[q] = static_cast<float>(c.x()), cy[q] = static_cast<float>(c.y()), cz[q] = static_cast<float>(c.z());
+      nx[q] = static_cast<float>(normal.x()), ny[q] = static_cast<float>(normal.y()), nz[q] = static_cast<float>(normal.z());
+      invAB[q] = static_cast<float>(1.0 / (b - a).squaredNorm());
+      invBC[q] = static_cast<float>(1.0 / (c - b).squaredNorm());
+      invCA[q] = static_cast<float>(1.0 / (a - c).squaredNorm());
+    }
+  }
+  std::size_t bytes() const { return 15 * ax.capacity() * sizeof(float); }
+};
+
+// Float screen buffers of one closestInList() call.
+struct ScreenBuffers {
+  std::vector<std::pair<float, int>> survivors;
+  std::vector<float> ax, ay, az, bx, by, bz, cx, cy, cz, nx, ny, nz, invAB, invBC, invCA, d2;
+  std::vector<int> position;
+};
+
+// Per-thread scratch, reused across blocks.
+struct Scratch {
+  std::vector<int> bvhCandidates;
+  CandidateList level[kLevels];
+  ScreenBuffers screen;
+  std::size_t candidateTotal = 0;
+};
+
+struct Context {
+  const TriangleBvh* bvh;
+  const TriangleSoa* soa;
+  const SdfGridLayout* layout;
+  const MeshPseudonormals* normals;  // null: leave the distance unsigned (the winding pass signs it)
+  float slack;  // absolute float rounding allowance on lower bounds (model units)
+  float areaTolerance;  // float rounding allowance of the inside test (model units^2)
+};
+
+// Eight floats processed together: GCC/Clang vector extensions (lowered to AVX where the function is
+// compiled for it, to SSE pairs otherwise). Written by hand because GCC 12 at -O2 does not vectorize these
+// loops on its own.
+#pragma GCC diagnostic ignored "-Wpsabi"  // Vec8f never crosses a call: every helper is always inlined
+typedef float Vec8f __attribute__((vector_size(32)));
+// The two hot functions are compiled twice, for x86-64-v3 (AVX2, FMA) and for the baseline, and the dynamic loader picks
+// one at start-up (GCC function multi-versioning): twice the speed on AVX2 machines, still portable.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define SDFCCD_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define SDFCCD_HOT
 #endif
-void distanceBlock(const Context& ctx, const Block& block, Scratch& s, float* outDistance, int* outPosition) {
+#define SDFCCD_INLINE inline __attribute__((always_inline))
+
+SDFCCD_INLINE Vec8f load8(const float* p) {
+  Vec8f v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+SDFCCD_INLINE void store8(float* p, Vec8f v) { std::memcpy(p, &v, sizeof(v)); }
+SDFCCD_INLINE Vec8f max8(Vec8f a, Vec8f b) { return a > b ? a : b; }
+SDFCCD_INLINE Vec8f min8(Vec8f a, Vec8f b) { return a < b ? a : b; }
+SDFCCD_INLINE Vec8f splat8(float x) { return Vec8f{x, x, x, x, x, x, x, x}; }
+SDFCCD_INLINE float maxf(float a, float b) { return a > b ? a : b; }
+
+// Squared lower bounds (float) from point (px, py, pz) to the boxes of chunk [c, c + kChunk).
+SDFCCD_INLINE void chunkPointBox(const CandidateList& l, std::size_t c, float px, float py, float pz, float* d2) {
+  const Vec8f x = splat8(px), y = splat8(py), z = splat8(pz), zero = splat8(0.0f);
+  for (int m = 0; m < kChunk; m += 8) {
+    const Vec8f gx = max8(max8(load8(&l.lox[c + m]) - x, x - load8(&l.hix[c + m])), zero);
+    const Vec8f gy = max8(max8(load8(&l.loy[c + m]) - y, y - load8(&l.hiy[c + m])), zero);
+    const Vec8f gz = max8(max8(load8(&l.loz[c + m]) - z, z - load8(&l.hiz[c + m])), zero);
+    store8(d2 + m, gx * gx + gy * gy + gz * gz);
+  }
+}
+
+// Squared distance from (px, py, pz) to segments u + t (v - u), t in [0, 1], eight at once, in float.
+SDFCCD_INLINE Vec8f segmentDistance2(Vec8f px, Vec8f py, Vec8f pz, Vec8f ux, Vec8f uy, Vec8f uz, Vec8f vx, Vec8f vy,
+                              Vec8f vz, Vec8f invLength2) {
+  const Vec8f ex = vx - ux, ey = vy - uy, ez = vz - uz;
+  const Vec8f wx = px - ux, wy = py - uy, wz = pz - uz;
+  const Vec8f t = min8(max8((wx * ex + wy * ey + wz * ez) * invLength2, splat8(0.0f)), splat8(1.0f));
+  const Vec8f dx = wx - t * ex, dy = wy - t * ey, dz = wz - t * ez;
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// Float screen: for survivors [0, count) of `b` (padded to a multiple of 8), a value that is at most the
+// true squared distance plus float rounding: the squared plane distance when the projection may fall
+// inside the triangle (the test is loosened by `tolerance`; the plane distance never exceeds the true
+// one), otherwise the smallest squared distance to the three edges (the true one). Branch-free.
+SDFCCD_INLINE void screenSurvivors(ScreenBuffers& b, std::size_t count, float pxs, float pys, float pzs, float tolerance) {
+  const Vec8f px = splat8(pxs), py = splat8(pys), pz = splat8(pzs), tol = splat8(-tolerance);
+  for (std::size_t m = 0; m < count; m += 8) {
+    const Vec8f ax = load8(&b.ax[m]), ay = load8(&b.ay[m]), az = load8(&b.az[m]);
+    const Vec8f bx = load8(&b.bx[m]), by = load8(&b.by[m]), bz = load8(&b.bz[m]);
+    const Vec8f cx = load8(&b.cx[m]), cy = load8(&b.cy[m]), cz = load8(&b.cz[m]);
+    const Vec8f nx = load8(&b.nx[m]), ny = load8(&b.ny[m]), nz = load8(&b.nz[m]);
+    const Vec8f apx = px - ax, apy = py - ay, apz = pz - az;
+    const Vec8f bpx = px - bx, bpy = py - by, bpz = pz - bz;
+    const Vec8f cpx = px - cx, cpy = py - cy, cpz = pz - cz;
+    const Vec8f abx = bx - ax, aby = by - ay, abz = bz - az;
+    const Vec8f bcx = cx - bx, bcy = cy - by, bcz = cz - bz;
+    const Vec8f cax = ax - cx, cay = ay - cy, caz = az - cz;
+    // Signed areas of the projection against each edge, in the triangle's unit-normal frame.
+    const Vec8f sa = nx * (aby * apz - abz * apy) + ny * (abz * apx - abx * apz) + nz * (abx * apy - aby * apx);
+    const Vec8f sb = nx * (bcy * bpz - bcz * bpy) + ny * (bcz * bpx - bcx * bpz) + nz * (bcx * bpy - bcy * bpx);
+    const Vec8f sc = nx * (cay * cpz - caz * cpy) + ny * (caz * cpx - cax * cpz) + nz * (cax * cpy - cay * cpx);
+    const Vec8f plane = nx * apx + ny * apy + nz * apz;
+    const Vec8f eAB = segmentDistance2(px, py, pz, ax, ay, az, bx, by, bz, load8(&b.invAB[m]));
+    const Vec8f eBC = segmentDistance2(px, py, pz, bx, by, bz, cx, cy, cz, load8(&b.invBC[m]));
+    const Vec8f eCA = segmentDistance2(px, py, pz, cx, cy, cz, ax, ay, az, load8(&b.invCA[m]));
+    const Vec8f edges = min8(min8(eAB, eBC), eCA);
+    const Vec8f smallest = min8(min8(sa, sb), sc);
+    store8(&b.d2[m], smallest >= tol ? min8(plane * plane, edges) : edges);
+  }
+}
+
+// Exact closest triangle to p among `list` (which must hold p's closest triangle); ioBest2/ioPosition carry
+// a warm start (a triangle and its exact squared distance). Three stages, each cheaper than the next:
+// box lower bounds for every candidate (vectorized), a float point-triangle distance for the survivors
+// (vectorized), then exact double distances by increasing float estimate until the estimate (less the
+// rounding allowance) exceeds the best exact distance.
+SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const Vec3& p, double& ioBest2,
+                          int& ioPosition, ScreenBuffers& b) {
+  const TriangleBvh& bvh = *ctx.bvh;
+  const TriangleSoa& soa = *ctx.soa;
+  const float bestF = roundUp(std::sqrt(ioBest2)) + ctx.slack;
+  const float threshold = bestF * bestF;
+  const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y()), pz = static_cast<float>(p.z());
+  const std::size_t padded = l.padded();
+  std::size_t count = 0;
+  auto ensure = [&](std::size_t size) {
+    if (b.position.size() >= size) return;
+    for (auto* v : {&b.ax, &b.ay, &b.az, &b.bx, &b.by, &b.bz, &b.cx, &b.cy, &b.cz, &b.nx, &b.ny, &b.nz, &b.invAB,
+                    &b.invBC, &b.invCA, &b.d2})
+      v->resize(2 * size);
+    b.position.resize(2 * size);
+  };
+  for (std::size_t c = 0; c < padded; c += kChunk) {
+    float d2[kChunk];
+    chunkPointBox(l, c, px, py, pz, d2);
+    for (int m = 0; m < kChunk; ++m) {
+      if (!(d2[m] <= threshold)) continue;
+      const int q = l.position[c + m];
+      if (q == ioPosition) continue;
+      ensure(count + 1);
+      b.ax[count] = soa.ax[q], b.ay[count] = soa.ay[q], b.az[count] = soa.az[q];
+      b.bx[count] = soa.bx[q], b.by[count] = soa.by[q], b.bz[count] = soa.bz[q];
+      b.cx[count] = soa.cx[q], b.cy[count] = soa.cy[q], b.cz[count] = soa.cz[q];
+      b.nx[count] = soa.nx[q], b.ny[count] = soa.ny[q], b.nz[count] = soa.nz[q];
+      b.invAB[count] = soa.invAB[q], b.invBC[count] = soa.invBC[q], b.invCA[count] = soa.invCA[q];
+      b.position[count] = q;
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  ensure((count + 7) / 8 * 8);
+  for (std::size_t m = count; m % 8 != 0; ++m) {  // padding lanes: copies of the first survivor
+    for (auto* v : {&b.ax, &b.ay, &b.az, &b.bx, &b.by, &b.bz, &b.cx, &b.cy, &b.cz, &b.nx, &b.ny, &b.nz, &b.invAB,
+                    &b.invBC, &b.invCA})
+      (*v)[m] = (*v)[0];
+  }
+  screenSurvivors(b, count, px, py, pz, ctx.areaTolerance);
+  b.survivors.clear();
+  for (std::size_t m = 0; m < count; ++m) {
+    if (b.d2[m] <= threshold) b.survivors.emplace_back(b.d2[m], b.position[m]);
+  }
+  std::sort(b.survivors.begin(), b.survivors.end(),
+            [](const std::pair<float, int>& x, const std::pair<float, int>& y) { return x.first < y.first; });
+  float limit = threshold;
+  for (const auto& [estimate2, q] : b.survivors) {
+    if (estimate2 > limit) break;
+    const double e2 = bvh.squaredDistance(p, q);
+    if (e2 < ioBest2) {
+      ioBest2 = e2;
+      ioPosition = q;
+      const float f = roundUp(std::sqrt(ioBest2)) + ctx.slack;
+      limit = f * f;
+    }
+  }
+}
+
+// Copies the entries of `parent` whose box lies within `bound` of the node box [lo, hi] into `child`.
+SDFCCD_HOT void filterList(const Context& ctx, const CandidateList& parent, const Vec3& lo, const Vec3& hi, double bound,
+                       CandidateList& child) {
+  child.clear();
+  const Vec8f qlx = splat8(roundDown(lo.x())), qly = splat8(roundDown(lo.y())), qlz = splat8(roundDown(lo.z()));
+  const Vec8f qhx = splat8(roundUp(hi.x())), qhy = splat8(roundUp(hi.y())), qhz = splat8(roundUp(hi.z()));
+  const Vec8f zero = splat8(0.0f);
+  const float b = roundUp(bound) + ctx.slack;
+  const float b2 = b * b;
+  const std::size_t padded = parent.padded();
+  for (std::size_t c = 0; c < padded; c += kChunk) {
+    float d2[kChunk];
+    for (int m = 0; m < kChunk; m += 8) {
+      const std::size_t e = c + m;
+      const Vec8f gx = max8(max8(load8(&parent.lox[e]) - qhx, qlx - load8(&parent.hix[e])), zero);
+      const Vec8f gy = max8(max8(load8(&parent.loy[e]) - qhy, qly - load8(&parent.hiy[e])), zero);
+      const Vec8f gz = max8(max8(load8(&parent.loz[e]) - qhz, qlz - load8(&parent.hiz[e])), zero);
+      store8(d2 + m, gx * gx + gy * gy + gz * gz);
+    }
+    for (int m = 0; m < kChunk; ++m) {
+      if (!(d2[m] <= b2)) continue;
+      const std::size_t e = c + m;
+      child.push(0.0f, parent.lox[e], parent.loy[e], parent.loz[e], parent.hix[e], parent.hiy[e], parent.hiz[e],
+                 parent.position[e]);
+    }
+  }
+  child.pad();
+}
+
+inline std::size_t nodeIndex(const Vec3i& n, int i, int j, int k) {
+  return static_cast<std::size_t>(i) +
+         static_cast<std::size_t>(n.x()) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
+}
+
+// The nodes of a leaf box (at most 2 per side): one warm-started closestInList() per node, then the
+// pseudonormal sign when the mesh is closed.
+void leafNodes(const Context& ctx, const Block& box, const CandidateList& list, int warm,
+               Scratch& s, float* outDistance) {
   const TriangleBvh& bvh = *ctx.bvh;
   const SdfGridLayout& layout = *ctx.layout;
-  const double h = layout.spacing;
-  const Vec3 lo = layout.origin + h * block.begin.cast<double>();
-  const Vec3 hi = layout.origin + h * (block.end - Vec3i::Ones()).cast<double>();
+  int previous = warm;
+  for (int k = box.begin.z(); k < box.end.z(); ++k)
+    for (int j = box.begin.y(); j < box.end.y(); ++j)
+      for (int i = box.begin.x(); i < box.end.x(); ++i) {
+        const Vec3 p = layout.origin + layout.spacing * Vec3(i, j, k);
+        double best2 = bvh.squaredDistance(p, previous);
+        int bestPosition = previous;
+        closestInList(ctx, list, p, best2, bestPosition, s.screen);
+        float value = static_cast<float>(std::sqrt(best2));
+        if (ctx.normals != nullptr) {
+          Vec3 closest;
+          TriangleFeature feature;
+          detail::closestPointOnTriangle(p, bvh.a(bestPosition), bvh.b(bestPosition), bvh.c(bestPosition), closest,
+                                         feature);
+          if ((p - closest).dot(ctx.normals->normal(bvh.triangleIndex(bestPosition), feature)) < 0.0) value = -value;
+        }
+        outDistance[nodeIndex(layout.nodeCounts, i, j, k)] = value;
+        previous = bestPosition;
+      }
+}
+
+// A box of nodes whose candidates are `parent` (a superset of every node's closest triangle): tightens the
+// list to this box (bound: exact centre distance + half-diagonal) and recurses into octants down to 2^3.
+void subdivide(const Context& ctx, const Block& box, int level, const CandidateList& parent, int warm, Scratch& s,
+               float* outDistance) {
+  const SdfGridLayout& layout = *ctx.layout;
+  const Vec3 lo = layout.origin + layout.spacing * box.begin.cast<double>();
+  const Vec3 hi = layout.origin + layout.spacing * (box.end - Vec3i::Ones()).cast<double>();
   const Vec3 centre = 0.5 * (lo + hi);
   const double radius = 0.5 * (hi - lo).norm();
+  double centre2 = ctx.bvh->squaredDistance(centre, warm);
+  int centrePosition = warm;
+  closestInList(ctx, parent, centre, centre2, centrePosition, s.screen);
+  CandidateList& list = s.level[level];
+  filterList(ctx, parent, lo, hi, std::sqrt(centre2) + radius, list);
+  const Vec3i size = box.end - box.begin;
+  if (size.maxCoeff() <= 2 || level + 1 >= kLevels) {
+    leafNodes(ctx, box, list, centrePosition, s, outDistance);
+    return;
+  }
+  const Vec3i half = (size + Vec3i::Ones()) / 2;
+  for (int oz = 0; oz < 2; ++oz)
+    for (int oy = 0; oy < 2; ++oy)
+      for (int ox = 0; ox < 2; ++ox) {
+        const Vec3i o(ox, oy, oz);
+        Block child;
+        for (int a = 0; a < 3; ++a) {
+          child.begin[a] = box.begin[a] + (o[a] ? half[a] : 0);
+          child.end[a] = o[a] ? box.end[a] : box.begin[a] + half[a];
+        }
+        if ((child.end.array() <= child.begin.array()).any()) continue;
+        subdivide(ctx, child, level + 1, list, centrePosition, s, outDistance);
+      }
+}
 
+// The distance pass of one block of up to 8^3 nodes: candidates from the BVH, then subdivide(). Writes the
+// distance to outDistance, signed by the pseudonormal of the closest feature when ctx.normals is set.
+void distanceBlock(const Context& ctx, const Block& block, Scratch& s, float* outDistance) {
+  const TriangleBvh& bvh = *ctx.bvh;
+  const SdfGridLayout& layout = *ctx.layout;
+  const Vec3 lo = layout.origin + layout.spacing * block.begin.cast<double>();
+  const Vec3 hi = layout.origin + layout.spacing * (block.end - Vec3i::Ones()).cast<double>();
+  const Vec3 centre = 0.5 * (lo + hi);
+  const double radius = 0.5 * (hi - lo).norm();
   double centre2 = std::numeric_limits<double>::infinity();
   int centrePosition = -1;
   bvh.closest(centre, centre2, centrePosition);
-  const double bound = (std::sqrt(centre2) + radius) * (1.0 + 1e-12) + 1e-300;
-
-  s.candidates.clear();
-  bvh.collectNearBox(lo, hi, bound, s.candidates);
-  s.sorted.clear();
-  for (const int q : s.candidates) {
-    const double k = std::sqrt(TriangleBvh::squaredBoxDistance(centre, bvh.boxLo(q), bvh.boxHi(q)));
-    s.sorted.emplace_back(roundDown(k) - ctx.slack, q);
+  const double bound = (std::sqrt(centre2) + radius) * (1.0 + 1e-12);
+  s.bvhCandidates.clear();
+  bvh.collectNearBox(lo, hi, bound, s.bvhCandidates);
+  CandidateList& top = s.level[0];
+  top.clear();
+  for (const int q : s.bvhCandidates) {
+    top.push(0.0f, roundDown(bvh.boxLo(q).x()), roundDown(bvh.boxLo(q).y()), roundDown(bvh.boxLo(q).z()),
+             roundUp(bvh.boxHi(q).x()), roundUp(bvh.boxHi(q).y()), roundUp(bvh.boxHi(q).z()), q);
   }
-  std::sort(s.sorted.begin(), s.sorted.end(),
-            [](const std::pair<float, int>& x, const std::pair<float, int>& y) { return x.first < y.first; });
-  const std::size_t count = s.sorted.size();
-  const std::size_t padded = (count + kChunk - 1) / kChunk * kChunk;
-  for (auto* v : {&s.key, &s.lox, &s.loy, &s.loz, &s.hix, &s.hiy, &s.hiz}) v->resize(padded);
-  s.position.resize(padded);
-  const float inf = std::numeric_limits<float>::infinity();
-  for (std::size_t m = 0; m < padded; ++m) {
-    if (m < count) {
-      const int q = s.sorted[m].second;
-      s.key[m] = s.sorted[m].first;
-      s.lox[m] = roundDown(bvh.boxLo(q).x());
-      s.loy[m] = roundDown(bvh.boxLo(q).y());
-      s.loz[m] = roundDown(bvh.boxLo(q).z());
-      s.hix[m] = roundUp(bvh.boxHi(q).x());
-      s.hiy[m] = roundUp(bvh.boxHi(q).y());
-      s.hiz[m] = roundUp(bvh.boxHi(q).z());
-      s.position[m] = q;
-    } else {  // padding: a box at infinity never passes
-      s.key[m] = inf;
-      s.lox[m] = s.loy[m] = s.loz[m] = inf;
-      s.hix[m] = s.hiy[m] = s.hiz[m] = inf;
-      s.position[m] = -1;
-    }
+  top.pad();
+  s.candidateTotal += top.size;
+  const Vec3i size = block.end - block.begin;
+  if (size.maxCoeff() <= 2) {
+    leafNodes(ctx, block, top, centrePosition, s, outDistance);
+    return;
   }
-  s.candidateTotal += count;
-
-  const float* key = s.key.data();
-  const float* lox = s.lox.data();
-  const float* loy = s.loy.data();
-  const float* loz = s.loz.data();
-  const float* hix = s.hix.data();
-  const float* hiy = s.hiy.data();
-  const float* hiz = s.hiz.data();
-  int previous = centrePosition;
-  const Vec3i n = layout.nodeCounts;
-  for (int k = block.begin.z(); k < block.end.z(); ++k) {
-    for (int j = block.begin.y(); j < block.end.y(); ++j) {
-      for (int i = block.begin.x(); i < block.end.x(); ++i) {
-        const Vec3 p = layout.origin + h * Vec3(i, j, k);
-        const float rp = roundUp((p - centre).norm());
-        double best2 = bvh.squaredDistance(p, previous);
-        int bestPosition = previous;
-        float bestF = roundUp(std::sqrt(best2));
-        float threshold = (bestF + ctx.slack) * (bestF + ctx.slack);
-        const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y()), pz = static_cast<float>(p.z());
-        for (std::size_t c = 0; c < padded; c += kChunk) {
-          if (key[c] - rp > bestF) break;
-          float d2[kChunk];
-          for (int m = 0; m < kChunk; ++m) {
-            const float gx = std::max(std::max(lox[c + m] - px, px - hix[c + m]), 0.0f);
-            const float gy = std::max(std::max(loy[c + m] - py, py - hiy[c + m]), 0.0f);
-            const float gz = std::max(std::max(loz[c + m] - pz, pz - hiz[c + m]), 0.0f);
-            d2[m] = gx * gx + gy * gy + gz * gz;
-          }
-          for (int m = 0; m < kChunk; ++m) {
-            if (!(d2[m] <= threshold)) continue;
-            const int q = s.position[c + m];
-            if (q == bestPosition) continue;
-            const double e2 = bvh.squaredDistance(p, q);
-            if (e2 < best2) {
-              best2 = e2;
-              bestPosition = q;
-              bestF = roundUp(std::sqrt(best2));
-              threshold = (bestF + ctx.slack) * (bestF + ctx.slack);
-            }
-          }
+  const Vec3i half = (size + Vec3i::Ones()) / 2;
+  for (int oz = 0; oz < 2; ++oz)
+    for (int oy = 0; oy < 2; ++oy)
+      for (int ox = 0; ox < 2; ++ox) {
+        const Vec3i o(ox, oy, oz);
+        Block child;
+        for (int a = 0; a < 3; ++a) {
+          child.begin[a] = block.begin[a] + (o[a] ? half[a] : 0);
+          child.end[a] = o[a] ? block.end[a] : block.begin[a] + half[a];
         }
-        const std::size_t index = static_cast<std::size_t>(i) +
-                                  static_cast<std::size_t>(n.x()) *
-                                      (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
-        outDistance[index] = static_cast<float>(std::sqrt(best2));
-        outPosition[index] = bestPosition;
-        previous = bestPosition;
+        if ((child.end.array() <= child.begin.array()).any()) continue;
+        subdivide(ctx, child, 1, top, centrePosition, s, outDistance);
       }
-    }
-  }
 }
 
 std::vector<Block> makeBlocks(const Vec3i& nodes) {
@@ -316,17 +571,21 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
                         std::fabs(layout.origin[a] + layout.spacing * (layout.nodeCounts[a] - 1))});
   }
   for (const Vec3& v : mesh.vertices) largest = std::max(largest, v.cwiseAbs().maxCoeff());
-  Context ctx{&bvh, &layout, static_cast<float>(16.0 * std::numeric_limits<float>::epsilon() * largest)};
+  const bool winding = stats.signMethod == SdfSignMethod::WindingNumber;
+  std::unique_ptr<MeshPseudonormals> normals;
+  if (!winding) normals = std::make_unique<MeshPseudonormals>(mesh);
+  const TriangleSoa soa(bvh);
+  const double epsilonF = std::numeric_limits<float>::epsilon();
+  Context ctx{&bvh, &soa, &layout, normals.get(), static_cast<float>(16.0 * epsilonF * largest),
+              static_cast<float>(128.0 * epsilonF * largest * largest)};
 
   const std::size_t nodeCount = layout.nodeCount();
   std::vector<float> values(nodeCount);
-  std::vector<int> closestPosition(nodeCount);
   const std::vector<Block> blocks = makeBlocks(layout.nodeCounts);
   std::vector<Scratch> scratch(static_cast<std::size_t>(threads));
-  const bool winding = stats.signMethod == SdfSignMethod::WindingNumber;
   ProgressReporter distanceProgress(settings.progress, blocks.size(), 0.0, winding ? 0.7 : 1.0);
   parallelFor(blocks.size(), threads, [&](std::size_t b, int thread) {
-    distanceBlock(ctx, blocks[b], scratch[static_cast<std::size_t>(thread)], values.data(), closestPosition.data());
+    distanceBlock(ctx, blocks[b], scratch[static_cast<std::size_t>(thread)], values.data());
     distanceProgress.advance();
   });
   stats.distanceSeconds = secondsSince(start);
@@ -334,35 +593,16 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
   std::size_t candidateTotal = 0;
   for (const Scratch& s : scratch) {
     candidateTotal += s.candidateTotal;
-    scratchBytes += s.candidates.capacity() * sizeof(int) + s.sorted.capacity() * sizeof(s.sorted[0]) +
-                    8 * s.key.capacity() * sizeof(float);
+    scratchBytes += s.bvhCandidates.capacity() * sizeof(int) + s.screen.position.capacity() * 17 * sizeof(float);
+    for (const CandidateList& l : s.level) scratchBytes += l.bytes();
   }
   stats.meanCandidates = static_cast<double>(candidateTotal) / static_cast<double>(std::max<std::size_t>(blocks.size(), 1));
 
   const auto signStart = std::chrono::steady_clock::now();
-  std::size_t signBytes = 0;
+  std::size_t signBytes = normals ? normals->memoryBytes() : 0;
   const Vec3i n = layout.nodeCounts;
   auto nodePosition = [&](int i, int j, int k) { return Vec3(layout.origin + layout.spacing * Vec3(i, j, k)); };
-  if (!winding) {
-    const MeshPseudonormals normals(mesh);
-    signBytes = normals.memoryBytes();
-    ProgressReporter signProgress(ProgressCallback(), blocks.size(), 0.0, 1.0);
-    parallelFor(blocks.size(), threads, [&](std::size_t b, int) {
-      const Block& block = blocks[b];
-      for (int k = block.begin.z(); k < block.end.z(); ++k)
-        for (int j = block.begin.y(); j < block.end.y(); ++j)
-          for (int i = block.begin.x(); i < block.end.x(); ++i) {
-            const std::size_t index = static_cast<std::size_t>(i) + static_cast<std::size_t>(n.x()) *
-                                      (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
-            const int q = closestPosition[index];
-            const Vec3 p = nodePosition(i, j, k);
-            Vec3 closest;
-            TriangleFeature feature;
-            detail::closestPointOnTriangle(p, bvh.a(q), bvh.b(q), bvh.c(q), closest, feature);
-            if ((p - closest).dot(normals.normal(bvh.triangleIndex(q), feature)) < 0.0) values[index] = -values[index];
-          }
-    });
-  } else {
+  if (winding) {
     const FastWindingNumber windingNumber(bvh, settings.windingAccuracy);
     signBytes = windingNumber.memoryBytes();
     const double threshold = settings.windingThreshold;
@@ -393,12 +633,10 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
     });
   }
   stats.signSeconds = secondsSince(signStart);
-  closestPosition.clear();
-  closestPosition.shrink_to_fit();
 
   result.grid = std::make_shared<const SdfGrid>(layout.nodeCounts, layout.origin, layout.spacing, std::move(values));
   stats.gridBytes = result.grid->memoryBytes();
-  stats.peakExtraBytes = bvh.memoryBytes() + nodeCount * sizeof(int) + scratchBytes + signBytes;
+  stats.peakExtraBytes = bvh.memoryBytes() + scratchBytes + signBytes;
   stats.seconds = secondsSince(start);
   if (settings.progress) settings.progress(1.0);
   return result;
