@@ -218,8 +218,10 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     for (const Json& e : effects) {
       if (!e.is_string()) r.fail("effects", "must be an array of strings");
       const std::string effect = e.get<std::string>();
-      if (effect != "gravity" && effect != "ground" && effect != "damping" && effect != "rotation") {
-        r.fail("effects", "has an unknown effect '" + effect + "' (known: damping, gravity, ground, rotation)");
+      if (effect != "gravity" && effect != "ground" && effect != "damping" && effect != "rotation" &&
+          effect != "friction") {
+        r.fail("effects",
+               "has an unknown effect '" + effect + "' (known: damping, friction, gravity, ground, rotation)");
       }
       s.effects.insert(effect);
     }
@@ -233,7 +235,8 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   if (root.contains("contact")) {
     const Json& c = root.at("contact");
     r.checkObject(c, "contact");
-    r.checkKeys(c, {"model", "stiffness", "damping", "subintervals", "toi_clamp", "toi_depth_cells", "tree"}, "contact");
+    r.checkKeys(c, {"model", "stiffness", "damping", "friction", "subintervals", "toi_clamp", "toi_depth_cells", "tree",
+                    "force_timing"}, "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
       s.contact.model = PenaltyModel::Discrete;
@@ -246,6 +249,16 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     s.contact.damping = r.number(c, "damping", "contact", s.contact.damping);
     if (!(s.contact.stiffness > 0)) r.fail("contact.stiffness", "must be > 0");
     if (!(s.contact.damping >= 0)) r.fail("contact.damping", "must be >= 0");
+    s.contact.friction = r.number(c, "friction", "contact", s.contact.friction);
+    if (!(s.contact.friction >= 0)) r.fail("contact.friction", "must be >= 0");
+    const std::string timing = r.string(c, "force_timing", "contact");
+    if (timing == "next_step") {
+      s.contact.forceTiming = SdfccdForceTiming::NextStep;
+    } else if (timing.empty() || timing == "same_step") {
+      s.contact.forceTiming = SdfccdForceTiming::SameStep;
+    } else {
+      r.fail("contact.force_timing", "must be same_step or next_step (got '" + timing + "')");
+    }
     s.contact.subintervals = r.integer(c, "subintervals", "contact", s.contact.subintervals, 1, 1000);
     s.contact.timeOfImpactClamp = r.boolean(c, "toi_clamp", "contact", s.contact.timeOfImpactClamp);
     s.contact.toiDepthCells = r.number(c, "toi_depth_cells", "contact", s.contact.toiDepthCells);

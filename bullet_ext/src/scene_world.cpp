@@ -79,6 +79,9 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
   s.penalty.subintervals = scene.contact.subintervals;
   s.penalty.enableDamping = scene.has("damping");
   s.penalty.enableRotation = scene.has("rotation");
+  s.penalty.enableFriction = scene.has("friction");
+  s.penalty.friction = scene.contact.friction;
+  s.forceTiming = scene.contact.forceTiming;
   s.timeOfImpactClamp = scene.contact.timeOfImpactClamp;
   s.toiDepthCells = scene.contact.toiDepthCells;
   s.useTree = scene.contact.useTree;

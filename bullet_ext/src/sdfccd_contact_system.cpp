@@ -99,6 +99,9 @@ SdfccdContactSystem::~SdfccdContactSystem() = default;
 
 void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
   const PenaltySettings& p = settings.penalty;
+  if (!(p.friction >= 0.0) || !std::isfinite(p.friction) || !(p.frictionSlipSpeed > 0.0)) {
+    throw Error("contact settings: friction must be finite and >= 0, frictionSlipSpeed > 0");
+  }
   if (!(p.stiffness >= 0.0) || !std::isfinite(p.stiffness) || !(p.damping >= 0.0) || !std::isfinite(p.damping) ||
       p.subintervals < 1) {
     throw Error("contact settings: stiffness and damping must be finite and >= 0, subintervals >= 1");
@@ -321,6 +324,18 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       record.clampPoint = startInWorld + c.fraction * (shell.worldFromBodyEnd * pointInShell - startInWorld);
     }
     if (record.clamp && !record.clampNormal.allFinite()) record.clamp = false;
+    if (record.clamp) {
+      // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
+      double deepest = 0.0;
+      for (const PointContact& c : m_scratch.contacts) {
+        const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
+        const Vec3 p0 = sdfFromShellStart * pointInShell;
+        const Vec3 p1 = sdfFromShellEnd * pointInShell;
+        deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - ccd.sigma));
+      }
+      record.maxPenetrationCells = deepest / cellSize;
+      record.penalty.maxPenetration = deepest;
+    }
   }
   if (m_settings.forceTiming == SdfccdForceTiming::SameStep && !record.clamp) {
     applyPenaltyImpulses(record);

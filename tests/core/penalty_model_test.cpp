@@ -151,6 +151,28 @@ TEST(PenaltyModel, DiscreteUsesEndDepthOnly) {
   EXPECT_EQ(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).contactCount, 0);
 }
 
+// Friction (beyond the paper): Coulomb mu |F_n| against the slip above the slip speed, viscous below it;
+// off unless enabled.
+TEST(PenaltyModel, FrictionOpposesSlip) {
+  const double k = 1000.0, dt = 0.001, depth = 0.002, mu = 0.5;
+  const std::vector<Vec3> points = {Vec3(0, -depth, 0)};
+  PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(Rigid::Identity());
+  shell.linearVelocityStart = shell.linearVelocityEnd = Vec3(0.3, 0, 0);
+  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
+  PenaltySettings s = springOnly(k, 5);
+  s.friction = mu;
+  EXPECT_NEAR(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).forceOnShell.x(), 0.0, 1e-15);
+  s.enableFriction = true;
+  PenaltyResult r = integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s);
+  EXPECT_NEAR(r.forceOnShell.x(), -mu * k * depth, 1e-9);
+  EXPECT_NEAR(r.forceOnShell.y(), k * depth, 1e-9);
+  EXPECT_NEAR(r.forceOnField.x(), mu * k * depth, 1e-9);
+  shell.linearVelocityStart = shell.linearVelocityEnd = Vec3(0, 0, 0.25 * s.frictionSlipSpeed);
+  r = integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s);
+  EXPECT_NEAR(r.forceOnShell.z(), -0.25 * mu * k * depth, 1e-9);
+}
+
 TEST(PenaltyModel, RejectsBadInput) {
   const std::vector<Vec3> points = {Vec3::Zero()};
   const PenaltyBodyMotion fixed = PenaltyBodyMotion::fixed(Rigid::Identity());

@@ -19,6 +19,10 @@ void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double
     throw Error("penalty model: stiffness and damping must be finite and non-negative");
   }
   if (settings.subintervals < 1) throw Error("penalty model: subintervals must be at least 1");
+  if (!(settings.friction >= 0.0) || !std::isfinite(settings.friction) || !(settings.frictionSlipSpeed > 0.0) ||
+      !std::isfinite(settings.frictionSlipSpeed)) {
+    throw Error("penalty model: friction must be finite and >= 0, frictionSlipSpeed positive");
+  }
   for (const PointContact& contact : ccd.contacts) {
     if (contact.point < 0 || static_cast<std::size_t>(contact.point) >= pointCount) {
       throw Error("penalty model: contact point index " + std::to_string(contact.point) + " is out of range");

@@ -8,7 +8,7 @@
 ///
 /// Effects: only what a scene lists is simulated — "gravity" (else zero gravity), "ground" (else no ground
 /// plane and no ground field), "damping" (else no damping integrals), "rotation" (else no contact torques and
-/// the bodies do not rotate).
+/// the bodies do not rotate), "friction" (regularized Coulomb friction, beyond the paper; else none).
 #pragma once
 
 #include <array>
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
+#include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/penalty_model.h"
 
 namespace sdfccd {
@@ -53,10 +54,12 @@ struct SceneContact {
   PenaltyModel model = PenaltyModel::Continuous;
   double stiffness = 2000.0;   ///< N/m per point
   double damping = 5.0;        ///< N s/m per point (used only with the "damping" effect)
+  double friction = 0.5;       ///< Coulomb coefficient (used only with the "friction" effect; beyond the paper)
   int subintervals = 5;
   bool timeOfImpactClamp = true;  ///< continuous model only
   double toiDepthCells = 0.5;
   bool useTree = true;
+  SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< when the penalty impulses act
 };
 
 struct Scene {

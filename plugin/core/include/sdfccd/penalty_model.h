@@ -48,6 +48,12 @@ struct PenaltySettings {
   int subintervals = 5;       ///< midpoint-rule pieces per contact sub-interval (paper: 5)
   bool enableDamping = true;  ///< integrate damping impulses (needs damping > 0 as well)
   bool enableRotation = true; ///< integrate angular impulses (torques)
+  /// Beyond the paper: regularized Coulomb friction, |F_t| = mu |F_n| min(1, |v_t| / frictionSlipSpeed),
+  /// opposing the tangential velocity of the point relative to the field body. Evaluated only when
+  /// enableFriction is set and friction > 0.
+  bool enableFriction = false;
+  double friction = 0.0;             ///< mu, Coulomb coefficient (dimensionless)
+  double frictionSlipSpeed = 0.01;   ///< m/s; below it friction is viscous (keeps the explicit step stable)
   double sigma = 0.0;         ///< contact level set (model units); the CCD must use the same value
 };
 
@@ -100,7 +106,7 @@ inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) { return a + t * (b - a
 template <class Field>
 double addPenaltySample(const Field& field, const PenaltyPointPath& path, const PenaltyBodyMotion& shell,
                         const PenaltyBodyMotion& fieldBody, double t, double weight, const PenaltySettings& settings,
-                        bool useDamping, PenaltyResult& io) {
+                        bool useDamping, bool useFriction, PenaltyResult& io) {
   const double depth = field.distance(lerp(path.pointInSdfStart, path.pointInSdfEnd, t)) - settings.sigma;
   if (!(depth < 0.0)) return depth;
   Vec3 normal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
@@ -108,23 +114,37 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
   if (!(normalLength > 0.0)) return depth;  // the normal turned half a turn during the step: no direction
   normal /= normalLength;
   double magnitude = -settings.stiffness * depth;  // N
-  const bool needHandles = useDamping || settings.enableRotation;
+  const bool needVelocity = useDamping || useFriction;
+  const bool needHandles = needVelocity || settings.enableRotation;
   Vec3 handleShell = Vec3::Zero();
   Vec3 handleField = Vec3::Zero();
   if (needHandles) {
     handleShell = lerp(path.handleShellStart, path.handleShellEnd, t);
     handleField = lerp(path.handleFieldStart, path.handleFieldEnd, t);
   }
-  if (useDamping) {
+  Vec3 relativeVelocity = Vec3::Zero();  // of the shell's point relative to the field body's material point
+  if (needVelocity) {
     const Vec3 velocityShell = lerp(shell.linearVelocityStart, shell.linearVelocityEnd, t) +
                                lerp(shell.angularVelocityStart, shell.angularVelocityEnd, t).cross(handleShell);
     const Vec3 velocityField =
         lerp(fieldBody.linearVelocityStart, fieldBody.linearVelocityEnd, t) +
         lerp(fieldBody.angularVelocityStart, fieldBody.angularVelocityEnd, t).cross(handleField);
-    const double approachSpeed = (velocityShell - velocityField).dot(normal);  // m/s, > 0 approaching
+    relativeVelocity = velocityShell - velocityField;
+  }
+  if (useDamping) {
+    const double approachSpeed = relativeVelocity.dot(normal);  // m/s, > 0 approaching
     magnitude = std::max(0.0, magnitude + settings.damping * approachSpeed);
   }
-  const Vec3 impulseOnField = (weight * magnitude) * normal;
+  Vec3 impulseOnField = (weight * magnitude) * normal;
+  if (useFriction) {
+    // The field body drags the shell's point backwards: on the field, the force follows the slip.
+    const Vec3 slip = relativeVelocity - relativeVelocity.dot(normal) * normal;
+    const double slipSpeed = slip.norm();
+    if (slipSpeed > 0.0) {
+      const double scale = settings.friction * magnitude / std::max(slipSpeed, settings.frictionSlipSpeed);
+      impulseOnField += (weight * scale) * slip;
+    }
+  }
   io.impulseOnField += impulseOnField;
   io.impulseOnShell -= impulseOnField;
   if (settings.enableRotation) {
@@ -164,13 +184,14 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   checkPenaltyInput(pointsInShell.size(), ccd, timestep, settings);
   PenaltyResult result;
   const bool useDamping = settings.enableDamping && settings.damping > 0.0;
+  const bool useFriction = settings.enableFriction && settings.friction > 0.0;
   const int pieces = std::max(1, settings.subintervals);
   for (const PointContact& contact : ccd.contacts) {
     const detail::PenaltyPointPath path = detail::makePenaltyPointPath(
         pointsInShell[static_cast<std::size_t>(contact.point)], contact.pointNormalInShell, shell, fieldBody);
     bool pushed = false;
     if (settings.model == PenaltyModel::Discrete) {
-      pushed = detail::addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, useDamping, result) < 0.0;
+      pushed = detail::addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, useDamping, useFriction, result) < 0.0;
     } else {
       for (std::size_t i = 0; i < contact.intervals.size(); ++i) {
         const Interval& interval = contact.intervals[i];
@@ -179,7 +200,7 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
         for (int j = 0; j < pieces; ++j) {
           const double t = interval.begin + (j + 0.5) * width;
           if (detail::addPenaltySample(field, path, shell, fieldBody, t, width * timestep, settings, useDamping,
-                                       result) < 0.0) {
+                                       useFriction, result) < 0.0) {
             pushed = true;
           }
         }
