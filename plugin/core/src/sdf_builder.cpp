@@ -520,7 +520,11 @@ class ProgressReporter {
     if (!m_progress || (done * 200 / m_total == (done - 1) * 200 / m_total && done != m_total)) return;
     std::unique_lock<std::mutex> lock(m_mutex, std::try_to_lock);
     if (!lock.owns_lock()) return;
-    m_progress(m_begin + (m_end - m_begin) * static_cast<double>(done) / static_cast<double>(m_total));
+    // Read the count again under the lock, so reported fractions never decrease.
+    const double fraction = m_begin + (m_end - m_begin) * static_cast<double>(m_done.load()) / static_cast<double>(m_total);
+    if (fraction <= m_last) return;
+    m_last = fraction;
+    m_progress(fraction);
   }
 
  private:
@@ -529,6 +533,7 @@ class ProgressReporter {
   double m_begin, m_end;
   std::atomic<std::size_t> m_done{0};
   std::mutex m_mutex;
+  double m_last = -1.0;
 };
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
