@@ -17,6 +17,8 @@
 #include <limits>
 #include <sstream>
 
+#include <sys/stat.h>
+
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 
@@ -321,6 +323,9 @@ std::string serializeSdf(const SdfGrid& grid, SdfFileFormat format) {
 }
 
 SdfGrid loadSdf(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  if (!S_ISREG(info.st_mode)) throw Error("cannot read '" + path + "': not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   in.seekg(0, std::ios::end);

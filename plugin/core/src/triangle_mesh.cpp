@@ -236,17 +236,20 @@ MeshRepairReport repairMesh(TriangleMesh& ioMesh, const MeshRepairSettings& sett
   }
   if (kept.empty()) throw Error("mesh has no faces left after dropping degenerate faces");
 
-  // 3. Remove vertices no face uses (merged-away vertices are counted as merged, not here).
+  // 3. Remove vertices no face uses (merged-away vertices are counted as merged, not here). The kept
+  //    vertices keep their relative order, so a clean mesh comes out unchanged.
   std::vector<int> newIndex(static_cast<std::size_t>(vertexCount), -1);
+  for (const auto& t : kept) {
+    for (int c : t) newIndex[c] = 0;
+  }
   std::vector<Vec3> vertices;
+  for (int v = 0; v < vertexCount; ++v) {
+    if (newIndex[v] < 0) continue;
+    newIndex[v] = static_cast<int>(vertices.size());
+    vertices.push_back(ioMesh.vertices[v]);
+  }
   for (auto& t : kept) {
-    for (int& c : t) {
-      if (newIndex[c] < 0) {
-        newIndex[c] = static_cast<int>(vertices.size());
-        vertices.push_back(ioMesh.vertices[c]);
-      }
-      c = newIndex[c];
-    }
+    for (int& c : t) c = newIndex[c];
   }
   int representatives = 0;
   for (int v = 0; v < vertexCount; ++v) representatives += representative[v] == v ? 1 : 0;
