@@ -15,6 +15,7 @@ packages=(
   libpng-dev           # frame output
   gnuplot-nox          # run plots (sdfccd plot), headless pngcairo terminal
   libtbb-dev           # parallel loops in the SDF builder and tree traversal
+  libopenvdb-dev libboost-dev  # optional peer of `sdfccd bench segments` (OpenVDB LevelSetRayIntersector)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/openvdb_peer.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/grid_field.h"
@@ -267,6 +268,38 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
       csvRow("table2-random", fieldName, cells, c.methodName, c.octreeName, n, r, paper, ratio);
     }
     if (everything) std::printf("   exact/bisection time ratio (full octree): %.2f (paper: 1.2)\n", exactFull / bisectionFull);
+
+#ifdef SDFCCD_HAS_OPENVDB
+    // The peer: OpenVDB's LevelSetRayIntersector on the same segments (those starting outside the surface:
+    // a ray intersector reports crossings, not "starts inside").
+    if (everything) {
+      std::vector<PeerSegment> peerSegments;
+      SegmentCcdSettings exact;
+      exact.mode = CcdMode::FirstHit;
+      SegmentCcdResult r;
+      for (const Segment& seg : random) {
+        if (peerSegments.size() >= 200000) break;
+        if (!(field.distance(seg.p0) > 0.0)) continue;
+        field.intersectSegment(seg.p0, seg.p1, exact, r);
+        peerSegments.push_back({seg.p0, seg.p1, r.hit() ? r.fraction : -1.0});
+      }
+      const OpenVdbPeerResult peer = runOpenVdbPeer(*grid, peerSegments);
+      std::printf("%-22s %7d %-10s %-7s %9lld %12.3f %12s %12s %9lld\n", "openvdb-peer", cells, "vdb-ray", "-",
+                  peer.segments, peer.microseconds, "-", "-", peer.peerHits);
+      std::printf("   OpenVDB LevelSetRayIntersector (narrow band 3 cells, %.1f MB, converted in %.2f s) vs our exact: "
+                  "%lld our hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
+                  peer.vdbBytes / 1e6, peer.conversionSeconds, peer.exactHits, peer.missed, peer.misplaced,
+                  peer.spurious);
+      if (csv) {
+        csv << "openvdb-peer," << fieldName << ',' << cells << ",vdb-ray,-," << peer.segments << ','
+            << peer.microseconds << ",,," << peer.peerHits << ',' << ratio << ",\"" << machineDescription()
+            << "\"\n";
+        csv << "misses-openvdb," << fieldName << ',' << cells << ",vdb-ray,-," << peer.exactHits << ",,,,"
+            << peer.missed << ';' << peer.misplaced << ';' << peer.spurious << ',' << ratio << ",\""
+            << machineDescription() << "\"\n";
+      }
+    }
+#endif
 
     // Protocol 2: haptic rate.
     const std::vector<Segment> haptic = hapticSegments(field, static_cast<std::size_t>(count), o.seed + 1);
