@@ -145,6 +145,16 @@ struct Reader {
 
 }  // namespace
 
+void resampleSceneShell(HapticScene& scene, int points) {
+  if (points < 1) throw Error("shell: points must be >= 1");
+  if (!scene.shellMesh) throw Error("shell: the scene keeps no mesh to resample");
+  ShellSamplingSettings sampling;
+  sampling.points = points;
+  sampling.iterations = scene.shellIterations;
+  sampling.threads = 0;
+  scene.tree = std::make_shared<const PointTree>(sampleShell(*scene.shellMesh, sampling));
+}
+
 HapticScene loadHapticScene(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error("cannot open scene '" + path + "'");
@@ -205,6 +215,8 @@ HapticScene loadHapticScene(const std::string& path) {
   sampling.iterations = static_cast<int>(r.nonNegative(shellJson, "iterations", 10));
   sampling.threads = 1;
   scene.tree = std::make_shared<const PointTree>(sampleShell(mesh, sampling));
+  scene.shellIterations = sampling.iterations;
+  scene.shellMesh = std::make_shared<const TriangleMesh>(mesh);
   MassPropertiesSettings massSettings;
   massSettings.mass = r.positive(shellJson, "mass", 0.05);
   const MassProperties props = computeMassProperties(mesh, massSettings);

@@ -29,6 +29,7 @@
 #include "sdfccd/haptics/penalty_renderer.h"
 #include "sdfccd/haptics/user_script.h"
 #include "sdfccd/point_tree.h"
+#include "sdfccd/triangle_mesh.h"
 
 namespace sdfccd::haptics {
 
@@ -74,6 +75,8 @@ struct HapticScene {
   double cellSize = 0.0;  ///< the field's spacing (plane: a nominal cell used for tolerances), model units
   // The manipulated object.
   std::shared_ptr<const PointTree> tree;
+  std::shared_ptr<const TriangleMesh> shellMesh;  ///< the procedural mesh the shell was sampled from
+  int shellIterations = 10;               ///< repulsion iterations used for the shell
   double mass = 0.0;                      ///< kg
   Vec3 inertiaDiagonal = Vec3::Zero();    ///< kg m^2, body axes
   Rigid worldFromBodyStart = Rigid::Identity();
@@ -85,6 +88,10 @@ struct HapticScene {
   PenaltyRendererSettings penalty;
   HapticSceneChecks checks;
 };
+
+/// Replaces the scene's shell by `points` points sampled from its mesh (for point-count sweeps). Throws
+/// sdfccd::Error on points < 1.
+void resampleSceneShell(HapticScene& scene, int points);
 
 /// Loads a scene file. Throws sdfccd::Error (one line naming the file and the key) on a missing file,
 /// bad JSON, missing or absurd values.
