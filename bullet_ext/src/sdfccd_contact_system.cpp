@@ -80,9 +80,18 @@ struct SdfccdContactSystem::Record {
   bool clamp = false;
   bool applied = false;  // SameStep: the penalty impulses are already in the velocities
   double clampFraction = 1.0;
-  Vec3 clampNormal = Vec3::Zero();  // world, out of the field body
-  Vec3 clampPoint = Vec3::Zero();   // world, the first-contact point at the clamp fraction
+  struct ClampPoint {
+    Vec3 pointInShell = Vec3::Zero();
+    Vec3 normal = Vec3::Zero();  // world, out of the field body at the point's first contact
+    Vec3 point = Vec3::Zero();   // world, where the point is at the clamp fraction
+  };
+  std::vector<ClampPoint> clampPoints;  // the deep-entering points, earliest first (at most kMaxClampPoints)
 };
+
+namespace {
+constexpr std::size_t kMaxClampPoints = 32;  // inelastic impact points per record
+constexpr int kImpactIterations = 8;         // sequential-impulse sweeps over them
+}  // namespace
 
 /// Who is the shell and who the field in one role.
 struct SdfccdContactSystem::Role {
@@ -306,6 +315,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     // A point that entered during the step and went deeper than the threshold (at an interval's middle, or
     // at the end) would be stopped too late by forces that act one step later: clamp at its first hit.
     const double threshold = thresholdCells * cellSize;
+    std::vector<std::pair<double, Record::ClampPoint>> entering;
     for (const PointContact& c : m_scratch.contacts) {
       if (c.state != SegmentState::Hit || !(c.fraction > 0.0) || c.intervals.empty()) continue;
       const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
@@ -316,14 +326,26 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
         const double t = 0.5 * (c.intervals[i].begin + c.intervals[i].end);
         deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - ccd.sigma);
       }
-      if (!(deepest < -threshold) || !(c.fraction < record.clampFraction)) continue;
-      record.clamp = true;
-      record.clampFraction = c.fraction;
-      record.clampNormal = (worldFromFieldStart.linear() * c.fieldNormalInSdf).normalized();
-      const Vec3 startInWorld = shell.worldFromBodyStart * pointInShell;
-      record.clampPoint = startInWorld + c.fraction * (shell.worldFromBodyEnd * pointInShell - startInWorld);
+      if (!(deepest < -threshold)) continue;
+      Record::ClampPoint clampPoint;
+      clampPoint.pointInShell = pointInShell;
+      clampPoint.normal = (worldFromFieldStart.linear() * c.fieldNormalInSdf).normalized();
+      if (!clampPoint.normal.allFinite()) continue;
+      entering.emplace_back(c.fraction, clampPoint);
     }
-    if (record.clamp && !record.clampNormal.allFinite()) record.clamp = false;
+    if (!entering.empty()) {
+      std::stable_sort(entering.begin(), entering.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (entering.size() > kMaxClampPoints) entering.resize(kMaxClampPoints);
+      record.clamp = true;
+      record.clampFraction = entering.front().first;
+      for (auto& e : entering) {
+        const Vec3 startInWorld = shell.worldFromBodyStart * e.second.pointInShell;
+        e.second.point =
+            startInWorld + record.clampFraction * (shell.worldFromBodyEnd * e.second.pointInShell - startInWorld);
+        record.clampPoints.push_back(e.second);
+      }
+    }
     if (record.clamp) {
       // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
       double deepest = 0.0;
@@ -378,36 +400,42 @@ void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
     ++m_lastClamps;
     ++m_stats.clamps;
   }
-  // 2. Inelastic impulses at the first-contact points remove the approaching normal velocity.
+  // 2. Inelastic impact: sequential impulses at the entering points remove their approaching normal
+  //    velocity (accumulated impulse per point kept >= 0, so a later sweep may only take back what it gave).
   for (const Record& r : m_records) {
     if (!r.clamp) continue;
     btRigidBody* shell = m_bodies[r.shell].body;
     btRigidBody* fieldBody = m_bodies[r.field].body;
-    const btVector3 normal = toBt(r.clampNormal);  // the shell may move along +normal relative to the field
-    const btVector3 point = toBt(r.clampPoint);
-    btVector3 relativeVelocity(0, 0, 0);
-    btScalar denominator = 0;
-    btVector3 shellArm(0, 0, 0), fieldArm(0, 0, 0);
-    if (shell != nullptr) {
-      shellArm = point - shell->getCenterOfMassPosition();
-      relativeVelocity += shell->getVelocityInLocalPoint(shellArm);
-      denominator += shell->computeImpulseDenominator(point, normal);
+    // The points moved with the bodies to the clamp fraction; rebuild them from the shell's pose there.
+    std::vector<btScalar> accumulated(r.clampPoints.size(), btScalar(0));
+    for (int sweep = 0; sweep < kImpactIterations; ++sweep) {
+      for (std::size_t k = 0; k < r.clampPoints.size(); ++k) {
+        const btVector3 normal = toBt(r.clampPoints[k].normal);  // the shell may move along +normal
+        const btVector3 point = toBt(r.clampPoints[k].point);
+        btVector3 relativeVelocity(0, 0, 0);
+        btScalar denominator = 0;
+        btVector3 shellArm(0, 0, 0), fieldArm(0, 0, 0);
+        if (shell != nullptr) {
+          shellArm = point - shell->getCenterOfMassPosition();
+          relativeVelocity += shell->getVelocityInLocalPoint(shellArm);
+          denominator += shell->computeImpulseDenominator(point, normal);
+        }
+        if (fieldBody != nullptr) {
+          fieldArm = point - fieldBody->getCenterOfMassPosition();
+          relativeVelocity -= fieldBody->getVelocityInLocalPoint(fieldArm);
+          denominator += fieldBody->computeImpulseDenominator(point, normal);
+        }
+        if (!(denominator > 0)) continue;
+        const btScalar approach = relativeVelocity.dot(normal);
+        const btScalar next = std::max(btScalar(0), accumulated[k] - approach / denominator);
+        const btVector3 impulse = normal * (next - accumulated[k]);
+        accumulated[k] = next;
+        if (shell != nullptr) shell->applyImpulse(impulse, shellArm);
+        if (fieldBody != nullptr) fieldBody->applyImpulse(-impulse, fieldArm);
+      }
     }
-    if (fieldBody != nullptr) {
-      fieldArm = point - fieldBody->getCenterOfMassPosition();
-      relativeVelocity -= fieldBody->getVelocityInLocalPoint(fieldArm);
-      denominator += fieldBody->computeImpulseDenominator(point, normal);
-    }
-    const btScalar approach = relativeVelocity.dot(normal);
-    if (!(approach < 0) || !(denominator > 0)) continue;
-    const btVector3 impulse = normal * (-approach / denominator);
-    if (shell != nullptr) {
-      shell->applyImpulse(impulse, shellArm);
-      if (shell->getActivationState() == ISLAND_SLEEPING) shell->activate();
-    }
-    if (fieldBody != nullptr) {
-      fieldBody->applyImpulse(-impulse, fieldArm);
-      if (fieldBody->getActivationState() == ISLAND_SLEEPING) fieldBody->activate();
+    for (btRigidBody* body : {shell, fieldBody}) {
+      if (body != nullptr && body->getActivationState() == ISLAND_SLEEPING) body->activate();
     }
   }
   // 3. NextStep timing: penalty impulses (eq. 5: F* dt) of the pairs whose bodies were not moved back.
