@@ -200,6 +200,8 @@ class GodObject {
       // curvature) start inside and must not freeze the god-object: only proper hits count.
       ccd.sigma = m_settings.slideFloor;
       ccd.ignoredPoints = &m_notInContact;
+      // Few contacts: visiting them point by point beats re-testing every inner node of the tree.
+      ccd.useTree = m_contacts.size() * 16 > static_cast<std::size_t>(m_tree.pointCount());
       rigidCcd(m_tree, m_field, start, end, ccd, m_ccd);
       out.segmentQueries += m_ccd.stats.segmentQueries;
       for (const PointContact& c : m_ccd.contacts)
