@@ -7,6 +7,7 @@
 #include "cli/command_registry.h"
 #include "cli/run_frame_renderer.h"
 #include "cli/run_plots.h"
+#include "sdfccd/error.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -22,8 +23,19 @@ int runPlot(const PlotOptions& options) {
   parseImageSize(options.size, settings.width, settings.height);
   settings.outputDir =
       options.outDir.empty() ? (std::filesystem::path(options.runDir) / "plots").string() : options.outDir;
-  // Plots need the frames only: meshes are not looked up.
-  const RunFolder run = readRunFolder(options.runDir, /*resolveMeshes=*/false);
+  // Meshes are needed only to compute the kinetic energy when the CSV has no column for it.
+  RunFolder run;
+  std::string meshNote;
+  try {
+    run = readRunFolder(options.runDir, /*loadMeshes=*/true);
+  } catch (const Error& e) {
+    run = readRunFolder(options.runDir, /*loadMeshes=*/false);
+    meshNote = e.what();
+  }
+  if (run.frames.series.count("kinetic_energy") == 0 && !meshNote.empty()) {
+    std::printf("note: no kinetic energy (the CSV has none and the meshes could not be loaded: %s)\n",
+                meshNote.c_str());
+  }
   const RunPlotResult result = writeRunPlots(run.frames, settings);
   for (const std::string& path : result.written) std::printf("plot: %s\n", path.c_str());
   for (const std::string& note : result.skipped) std::printf("skipped %s\n", note.c_str());

@@ -48,7 +48,7 @@ std::vector<Vec3> runFramingPoints(const RunScene& scene, const RunFrames& frame
   std::vector<Box3> localBoxes;
   for (const RunBody& body : scene.bodies) {
     Box3 box;
-    for (const Vec3& v : body.mesh->vertices) box.extend(body.scale * v);
+    for (const Vec3& v : body.mesh->vertices) box.extend(v);  // scaled, body frame
     localBoxes.push_back(box);
   }
   std::vector<Vec3> points;
@@ -97,8 +97,7 @@ int runRender(const RenderOptions& options) {
   if (options.sheetCells < 0 || options.thumbWidth < 16 || options.thumbWidth > 4096) {
     throw Error("--sheet-cells must be >= 0 and --thumb-width in 16..4096");
   }
-  RunFolder run = readRunFolder(options.runDir);
-  loadRunMeshes(run.scene);
+  const RunFolder run = readRunFolder(options.runDir);
   const RunFrames& frames = run.frames;
   const int frameCount = static_cast<int>(frames.times.size());
   const int every = options.every > 0 ? options.every : std::max(1, (frameCount + 249) / 250);

@@ -13,6 +13,8 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
+#include "sdfccd/mass_properties.h"
+#include "sdfccd/procedural_meshes.h"
 
 namespace sdfccd::cli {
 
@@ -126,17 +128,33 @@ PoseColumns poseColumns(const CsvColumns& columns, const std::string& prefix) {
 /// Where a per-frame series comes from, and how bodies combine into it.
 struct SeriesColumn {
   const char* name;
-  std::initializer_list<const char*> aliases;
+  std::initializer_list<std::pair<const char*, double>> aliases;  // column name, factor to the series' unit
   bool takeMaximum;  // penetration: the deepest body; everything else adds up
 };
 
 const SeriesColumn kSeries[] = {
-    {"contacts", {"contacts", "contact_count", "num_contacts"}, false},
-    {"penetration", {"penetration", "max_penetration", "penetration_m", "depth"}, true},
-    {"kinetic_energy", {"kinetic_energy", "ke", "energy"}, false},
-    {"ccd_seconds", {"ccd_seconds", "ccd_time", "ccd_s"}, false},
-    {"step_seconds", {"step_seconds", "step_time", "step_s"}, false},
+    {"contacts", {{"contacts", 1.0}, {"contact_count", 1.0}, {"num_contacts", 1.0}}, false},
+    {"penetration", {{"penetration", 1.0}, {"max_penetration", 1.0}, {"penetration_m", 1.0},
+                     {"penetration_cells", 1.0}, {"max_penetration_cells", 1.0}}, true},
+    {"kinetic_energy", {{"kinetic_energy", 1.0}, {"ke", 1.0}}, false},
+    {"ccd_seconds", {{"ccd_seconds", 1.0}, {"ccd_s", 1.0}, {"ccd_ms", 1e-3}}, false},
+    {"step_seconds", {{"step_seconds", 1.0}, {"step_s", 1.0}, {"step_ms", 1e-3}}, false},
 };
+
+TriangleMesh primitiveMesh(const RunPrimitive& p) {
+  // The same shapes as the Bullet scenes build (bullet_ext scene_world.cpp).
+  if (p.type == "box") return makeBox(p.halfExtents);
+  if (p.type == "sphere") return makeIcosphere(p.radius, p.subdivisions);
+  if (p.type == "cylinder") return makeCylinder(p.radius, p.height);
+  LathedBowlSettings bowl;
+  const double factor = p.radius / bowl.rimRadius;
+  bowl.rimRadius = p.radius;
+  bowl.height = p.height;
+  bowl.wall *= factor;
+  bowl.footRadius *= factor;
+  bowl.footHeight *= factor;
+  return makeLathedBowl(bowl);
+}
 
 }  // namespace
 
@@ -156,10 +174,11 @@ RunScene readRunScene(const std::string& path, const std::vector<std::string>& s
     if (!json.is_object() || !json.contains("bodies") || !json["bodies"].is_array()) {
       throw Error("scene '" + path + "' has no \"bodies\" array");
     }
+    // The ground is drawn when it is simulated: the "ground" effect (height from "ground": {"height": h}).
     const bool groundEffect = json.contains("effects") && json["effects"].is_array() &&
                               std::find(json["effects"].begin(), json["effects"].end(), "ground") !=
                                   json["effects"].end();
-    if (json.contains("ground") || groundEffect) {
+    if (groundEffect) {
       double height = 0.0;
       if (json.contains("ground") && json["ground"].is_object() && json["ground"].contains("height")) {
         height = json["ground"]["height"].get<double>();
@@ -181,22 +200,42 @@ RunScene readRunScene(const std::string& path, const std::vector<std::string>& s
       RunBody body;
       body.name = b.contains("name") ? b["name"].get<std::string>() : "body" + std::to_string(index);
       const std::string where = "scene '" + path + "', body '" + body.name + "'";
-      if (!b.contains("mesh") || !b["mesh"].is_string()) throw Error(where + " has no \"mesh\" file");
-      const std::string meshPath = b["mesh"].get<std::string>();
-      const std::optional<std::string> found = findMesh(meshPath, searchFolders, sceneFolder);
-      if (!found && resolveMeshes) throw Error(where + ": mesh '" + meshPath + "' not found");
-      body.meshPath = found ? *found : meshPath;
+      if (b.contains("primitive")) {
+        const nlohmann::json& j = b["primitive"];
+        RunPrimitive primitive;
+        primitive.type = j.at("type").get<std::string>();
+        if (primitive.type != "box" && primitive.type != "sphere" && primitive.type != "cylinder" &&
+            primitive.type != "bowl") {
+          throw Error(where + ": unknown primitive '" + primitive.type + "'");
+        }
+        if (j.contains("half_extents")) primitive.halfExtents = readVec3(j["half_extents"], where + ": half_extents");
+        if (j.contains("radius")) primitive.radius = j["radius"].get<double>();
+        if (j.contains("height")) primitive.height = j["height"].get<double>();
+        if (j.contains("subdivisions")) primitive.subdivisions = j["subdivisions"].get<int>();
+        body.primitive = primitive;
+      } else {
+        if (!b.contains("mesh") || !b["mesh"].is_string()) throw Error(where + " has no \"mesh\" file");
+        const std::string meshPath = b["mesh"].get<std::string>();
+        const std::optional<std::string> found = findMesh(meshPath, searchFolders, sceneFolder);
+        if (!found && resolveMeshes) throw Error(where + ": mesh '" + meshPath + "' not found");
+        body.meshPath = found ? *found : meshPath;
+      }
       if (b.contains("scale")) body.scale = b["scale"].get<double>();
       if (!(body.scale > 0.0) || !std::isfinite(body.scale)) throw Error(where + ": scale must be positive");
       if (b.contains("static")) body.isStatic = b["static"].get<bool>();
-      if (b.contains("position")) body.worldFromBody.translation() = readVec3(b["position"], where + ": position");
+      if (b.contains("mass")) body.mass = b["mass"].get<double>();
+      if (body.isStatic) body.mass = 0.0;
+      if (!(body.mass >= 0.0) || !std::isfinite(body.mass)) throw Error(where + ": bad mass");
+      if (b.contains("position")) body.positionAtStart = readVec3(b["position"], where + ": position");
       if (b.contains("orientation")) {
         const nlohmann::json& q = b["orientation"];
         if (!q.is_array() || q.size() != 4) throw Error(where + ": orientation must be [w, x, y, z]");
         Quat rotation(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
         if (!rotation.coeffs().allFinite() || rotation.norm() < 1e-9) throw Error(where + ": bad orientation");
-        body.worldFromBody.linear() = rotation.normalized().toRotationMatrix();
+        body.orientationAtStart = rotation.normalized();
       }
+      body.worldFromBody.linear() = body.orientationAtStart.toRotationMatrix();
+      body.worldFromBody.translation() = body.positionAtStart;
       scene.bodies.push_back(std::move(body));
       ++index;
     }
@@ -206,18 +245,67 @@ RunScene readRunScene(const std::string& path, const std::vector<std::string>& s
   return scene;
 }
 
+Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensityPrincipalMoments,
+                      double* outUnitDensityMass) {
+  MassPropertiesSettings unitDensity;
+  unitDensity.density = 1.0;
+  const MassProperties inModel = computeMassProperties(scaledMeshInModel, unitDensity);
+  // Same rule as SdfccdBodyModel: keep the mesh's own axes when they are already principal.
+  const Mat3& inertia = inModel.inertiaAboutCenterOfMass;
+  const double offDiagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
+  Rigid modelFromBody = Rigid::Identity();
+  modelFromBody.translation() = inModel.centerOfMassInMesh;
+  if (offDiagonal > 1e-9 * inertia.trace()) modelFromBody.linear() = inModel.principalAxesInMesh;
+  if (outUnitDensityPrincipalMoments != nullptr) {
+    const Mat3 rotation = modelFromBody.linear().transpose();
+    *outUnitDensityPrincipalMoments = (rotation * inertia * rotation.transpose()).diagonal();
+  }
+  if (outUnitDensityMass != nullptr) *outUnitDensityMass = inModel.mass;
+  return modelFromBody;
+}
+
 void loadRunMeshes(RunScene& ioScene) {
-  std::map<std::string, std::shared_ptr<const TriangleMesh>> loaded;
+  struct Loaded {
+    std::shared_ptr<const TriangleMesh> meshInBody;
+    Rigid modelFromBody;
+    Vec3 unitMoments;
+    double unitMass = 1.0;
+  };
+  std::map<std::string, Loaded> loaded;  // by mesh file or primitive, and scale
   for (RunBody& body : ioScene.bodies) {
-    auto it = loaded.find(body.meshPath);
+    std::ostringstream key;
+    key.precision(17);
+    if (body.primitive) {
+      const RunPrimitive& p = *body.primitive;
+      key << "primitive " << p.type << " " << p.halfExtents.transpose() << " " << p.radius << " " << p.height << " "
+          << p.subdivisions;
+    } else {
+      key << "file " << body.meshPath;
+    }
+    key << " scale " << body.scale;
+    auto it = loaded.find(key.str());
     if (it == loaded.end()) {
       try {
-        it = loaded.emplace(body.meshPath, std::make_shared<const TriangleMesh>(loadMesh(body.meshPath))).first;
+        TriangleMesh mesh = body.primitive ? primitiveMesh(*body.primitive) : loadMesh(body.meshPath);
+        for (Vec3& v : mesh.vertices) v *= body.scale;
+        Loaded entry;
+        entry.modelFromBody = modelFromBodyOf(mesh, &entry.unitMoments, &entry.unitMass);
+        const Rigid bodyFromModel = entry.modelFromBody.inverse();
+        for (Vec3& v : mesh.vertices) v = bodyFromModel * v;
+        entry.meshInBody = std::make_shared<const TriangleMesh>(std::move(mesh));
+        it = loaded.emplace(key.str(), std::move(entry)).first;
       } catch (const Error& e) {
         throw Error("body '" + body.name + "': " + std::string(e.what()));
       }
     }
-    body.mesh = it->second;
+    const Loaded& entry = it->second;
+    body.mesh = entry.meshInBody;
+    body.principalInertia = entry.unitMoments * (body.mass / entry.unitMass);
+    // As the simulation places bodies: "position" is the centre of mass, "orientation" turns the mesh's axes.
+    Rigid worldFromModel = Rigid::Identity();
+    worldFromModel.linear() = body.orientationAtStart.toRotationMatrix();
+    body.worldFromBody = worldFromModel * entry.modelFromBody;
+    body.worldFromBody.translation() = body.positionAtStart;
   }
 }
 
@@ -249,23 +337,57 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
   } else {
     for (const RunBody& body : scene.bodies) widePoses.push_back(poseColumns(columns, body.name));
   }
-  std::map<std::string, std::vector<int>> seriesColumns;  // series -> columns (one per body, or one)
+  // Series: the columns behind each (one shared, or one per body) with the factor to the series' unit.
+  std::map<std::string, std::vector<std::pair<int, double>>> seriesColumns;
+  RunFrames frames;
   for (const SeriesColumn& series : kSeries) {
-    std::vector<int> found;
-    const int shared = columns.find(series.aliases);
-    if (shared >= 0) found.push_back(shared);
+    std::vector<std::pair<int, double>> found;
+    for (const auto& [alias, factor] : series.aliases) {
+      const int shared = columns.find({alias});
+      if (shared >= 0) {
+        found.emplace_back(shared, factor);
+        frames.seriesSource[series.name] = alias;
+        break;
+      }
+    }
     if (bodyColumn < 0) {
       for (const RunBody& body : scene.bodies) {
-        const int own = columns.find(series.aliases, body.name);
-        if (own >= 0) found.push_back(own);
+        for (const auto& [alias, factor] : series.aliases) {
+          const int own = columns.find({alias}, body.name);
+          if (own >= 0) {
+            found.emplace_back(own, factor);
+            frames.seriesSource[series.name] = std::string("<body>.") + alias;
+            break;
+          }
+        }
       }
     }
     if (!found.empty()) seriesColumns[series.name] = found;
   }
+  // Velocities (world frame) for the kinetic energy when no column gives it and the meshes are loaded.
+  struct VelocityColumns {
+    int v[3] = {-1, -1, -1};
+    int w[3] = {-1, -1, -1};
+  };
+  std::vector<VelocityColumns> velocities;
+  bool computeEnergy = seriesColumns.count("kinetic_energy") == 0 && bodyCount > 0;
+  for (const RunBody& body : scene.bodies) {
+    const std::string prefix = bodyColumn >= 0 ? std::string() : body.name;
+    VelocityColumns c;
+    const char* names[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
+    for (int k = 0; k < 3; ++k) {
+      c.v[k] = columns.find({names[k]}, prefix);
+      c.w[k] = columns.find({names[3 + k]}, prefix);
+      computeEnergy = computeEnergy && (body.isStatic || (c.v[k] >= 0 && c.w[k] >= 0));
+    }
+    computeEnergy = computeEnergy && (body.isStatic || body.mesh != nullptr);
+    velocities.push_back(c);
+  }
+  if (computeEnergy) frames.seriesSource["kinetic_energy"] = "computed from velocities, masses and inertias";
+
   std::map<std::string, std::size_t> bodyIndex;
   for (std::size_t i = 0; i < bodyCount; ++i) bodyIndex[scene.bodies[i].name] = i;
 
-  RunFrames frames;
   auto startFrame = [&](int number, double time) {
     frames.frameNumbers.push_back(number);
     frames.times.push_back(time);
@@ -273,6 +395,7 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
     for (const RunBody& body : scene.bodies) poses.push_back(body.worldFromBody);
     frames.worldFromBody.push_back(std::move(poses));
     for (const auto& [name, unused] : seriesColumns) frames.series[name].push_back(0.0);
+    if (computeEnergy) frames.series["kinetic_energy"].push_back(0.0);
   };
   auto number = [&](const std::vector<std::string>& row, int column, int lineNumber) {
     const std::string& text = row[static_cast<std::size_t>(column)];
@@ -293,6 +416,17 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
     if (q.norm() < 1e-9) throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + ": zero quaternion");
     worldFromBody.linear() = q.normalized().toRotationMatrix();
     return worldFromBody;
+  };
+
+  // Translational plus rotational energy: 0.5 m v^2 + 0.5 w_body . (I_body w_body), as the simulation reports it.
+  auto kineticEnergy = [&](const std::vector<std::string>& row, std::size_t body, int lineNumber) {
+    const RunBody& b = scene.bodies[body];
+    if (b.isStatic) return 0.0;
+    const VelocityColumns& c = velocities[body];
+    const Vec3 v(number(row, c.v[0], lineNumber), number(row, c.v[1], lineNumber), number(row, c.v[2], lineNumber));
+    const Vec3 w(number(row, c.w[0], lineNumber), number(row, c.w[1], lineNumber), number(row, c.w[2], lineNumber));
+    const Vec3 wInBody = frames.worldFromBody.back()[body].linear().transpose() * w;
+    return 0.5 * b.mass * v.squaredNorm() + 0.5 * wInBody.dot(b.principalInertia.cwiseProduct(wInBody));
   };
 
   int lineNumber = 1;
@@ -323,17 +457,19 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
                     "' is not in the scene");
       }
       frames.worldFromBody.back()[it->second] = readPose(row, longPose, lineNumber);
+      if (computeEnergy) frames.series["kinetic_energy"].back() += kineticEnergy(row, it->second, lineNumber);
     } else {
       for (std::size_t i = 0; i < bodyCount; ++i) {
         if (widePoses[i].complete()) frames.worldFromBody.back()[i] = readPose(row, widePoses[i], lineNumber);
+        if (computeEnergy) frames.series["kinetic_energy"].back() += kineticEnergy(row, i, lineNumber);
       }
     }
     for (const SeriesColumn& series : kSeries) {
       auto it = seriesColumns.find(series.name);
       if (it == seriesColumns.end()) continue;
       double& value = frames.series[series.name].back();
-      for (int column : it->second) {
-        const double v = number(row, column, lineNumber);
+      for (const auto& [column, factor] : it->second) {
+        const double v = factor * number(row, column, lineNumber);
         value = series.takeMaximum ? std::max(value, v) : value + v;
       }
     }
@@ -347,25 +483,43 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
   return frames;
 }
 
-RunFolder readRunFolder(const std::string& folder, bool resolveMeshes) {
+RunFolder readRunFolder(const std::string& folder, bool loadMeshes) {
   if (!fs::is_directory(folder)) throw Error("run folder '" + folder + "' does not exist");
   std::vector<std::string> searchFolders = {folder};
+  std::string originalScene;
   const fs::path summaryPath = fs::path(folder) / kRunSummaryFile;
   if (fs::exists(summaryPath)) {
     std::ifstream in(summaryPath);
     const nlohmann::json summary = nlohmann::json::parse(in, nullptr, false);
     for (const char* key : {"scene", "scene_path", "scene_file"}) {
-      if (!summary.is_discarded() && summary.is_object() && summary.contains(key) && summary[key].is_string()) {
-        const fs::path original = fs::absolute(summary[key].get<std::string>()).parent_path();
-        searchFolders.push_back(original.string());
-        if (original.has_parent_path()) searchFolders.push_back(original.parent_path().string());
-        if (original.parent_path().has_parent_path()) searchFolders.push_back(original.parent_path().parent_path().string());
+      if (summary.is_discarded() || !summary.is_object() || !summary.contains(key) || !summary[key].is_string()) {
+        continue;
       }
+      // A relative path was relative to where simulate ran: try there (the current folder) and beside the run.
+      const fs::path given = summary[key].get<std::string>();
+      for (const fs::path& candidate : {given, fs::path(folder) / given, fs::path(folder).parent_path() / given,
+                                        fs::path(folder).parent_path().parent_path() / given}) {
+        if (fs::is_regular_file(candidate)) {
+          originalScene = candidate.string();
+          break;
+        }
+      }
+      const fs::path original = fs::absolute(originalScene.empty() ? given : fs::path(originalScene)).parent_path();
+      searchFolders.push_back(original.string());
+      break;
     }
+  }
+  std::string scenePath = (fs::path(folder) / kRunSceneFile).string();
+  if (!fs::exists(scenePath)) {
+    if (originalScene.empty()) {
+      throw Error("run folder '" + folder + "' has no scene.json, and summary.json names no scene file found");
+    }
+    scenePath = originalScene;
   }
   RunFolder run;
   run.folder = folder;
-  run.scene = readRunScene((fs::path(folder) / kRunSceneFile).string(), searchFolders, resolveMeshes);
+  run.scene = readRunScene(scenePath, searchFolders, loadMeshes);
+  if (loadMeshes) loadRunMeshes(run.scene);
   run.frames = readRunFrames((fs::path(folder) / kRunFramesFile).string(), run.scene);
   return run;
 }

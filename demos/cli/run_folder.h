@@ -22,16 +22,37 @@
 #include "sdfccd/math_types.h"
 #include "sdfccd/triangle_mesh.h"
 
+
 namespace sdfccd::cli {
 
+/// A procedural shape instead of a mesh file (scene key "primitive"; procedural_meshes.h).
+struct RunPrimitive {
+  std::string type;                        ///< "box", "sphere", "cylinder" or "bowl"
+  Vec3 halfExtents = Vec3::Constant(0.5);  ///< box (model units)
+  double radius = 0.5;                     ///< sphere, cylinder; the bowl's rim radius
+  double height = 1.0;                     ///< cylinder; the bowl's height
+  int subdivisions = 3;                    ///< sphere
+};
+
 /// One body of a run's scene.
+///
+/// Poses are of the *body frame* the simulation integrates (the Bullet plugin's SdfccdBodyModel): origin at
+/// the centre of mass, axes along the principal axes of inertia unless the mesh's own axes already are
+/// principal. loadRunMeshes() puts the scaled mesh into that frame the same way, so `worldFromBody * vertex`
+/// places it.
 struct RunBody {
   std::string name;
-  std::string meshPath;                 ///< resolved path of the mesh file (empty for a procedural shape)
-  std::shared_ptr<const TriangleMesh> mesh;  ///< loaded by loadRunMeshes()
-  double scale = 1.0;                   ///< uniform scale of the mesh
+  std::string meshPath;                      ///< resolved path of the mesh file (empty for a primitive)
+  std::optional<RunPrimitive> primitive;
+  double scale = 1.0;                        ///< uniform scale of the mesh (baked into `mesh`)
+  double mass = 1.0;                         ///< kg (0 for static bodies)
   bool isStatic = false;
-  Rigid worldFromBody = Rigid::Identity();   ///< the scene's initial pose (m)
+  Quat orientationAtStart = Quat::Identity();  ///< the scene's "orientation" (of the mesh's own axes)
+  Vec3 positionAtStart = Vec3::Zero();         ///< the scene's "position" (of the centre of mass, m)
+  // Filled by loadRunMeshes():
+  std::shared_ptr<const TriangleMesh> mesh;  ///< scaled, in the body frame (m)
+  Vec3 principalInertia = Vec3::Zero();      ///< body-frame diagonal inertia for `mass` (kg m^2)
+  Rigid worldFromBody = Rigid::Identity();   ///< the pose at the start (m)
 };
 
 /// The camera a scene file asks for: "camera": {"eye": [x,y,z], "target": [x,y,z], "fov": degrees, "up": [...]}.
@@ -57,6 +78,7 @@ struct RunFrames {
   std::vector<std::vector<Rigid>> worldFromBody;     ///< [frame][body], bodies in scene order
   std::map<std::string, std::vector<double>> series; ///< "contacts", "penetration", "kinetic_energy",
                                                      ///< "ccd_seconds", "step_seconds": one value per frame
+  std::map<std::string, std::string> seriesSource;   ///< the CSV column (or "computed") behind each series
 };
 
 /// File names inside a run folder.
@@ -72,21 +94,30 @@ inline constexpr const char* kRunSummaryFile = "summary.json";
 RunScene readRunScene(const std::string& path, const std::vector<std::string>& searchFolders = {},
                       bool resolveMeshes = true);
 
-/// Loads every body's mesh (each file once, shared between bodies). Throws sdfccd::Error naming the body and
-/// the file if a mesh cannot be loaded.
+/// Loads every body's mesh (each file or primitive once, shared between bodies), scales it and moves it into the
+/// body frame; fills mass properties and start poses. Throws sdfccd::Error naming the body and the file if a
+/// mesh cannot be loaded or encloses no volume.
 void loadRunMeshes(RunScene& ioScene);
 
-/// Reads frames.csv (either shape above) for the bodies of `scene`. Throws sdfccd::Error for a missing or
+/// The body frame of a scaled mesh: `modelFromBody` maps body coordinates to (scaled) mesh coordinates. Mirrors
+/// SdfccdBodyModel (bullet_ext): centre of mass at the origin, principal axes unless the mesh axes already are.
+Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensityPrincipalMoments = nullptr,
+                      double* outUnitDensityMass = nullptr);
+
+/// Reads frames.csv (either shape above) for the bodies of `scene`. Without a kinetic energy column, the
+/// "kinetic_energy" series is computed from the velocity columns (vx..vz, wx..wz, world frame) when the meshes
+/// are loaded (masses and inertias known). Throws sdfccd::Error for a missing or
 /// empty file, a missing time or pose column, non-numeric or non-finite values, or rows of unequal length.
 RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene);
 
-/// Reads RUN_DIR/scene.json and RUN_DIR/frames.csv (meshes are not loaded). Mesh paths are also looked up
-/// relative to the original scene's folder when summary.json names it ("scene" key).
+/// Reads a run folder: the scene (RUN_DIR/scene.json, else the file summary.json names under "scene"), then
+/// frames.csv. Meshes are loaded (loadRunMeshes) when `loadMeshes`; mesh paths are also looked up relative to the
+/// original scene's folder. Without `loadMeshes`, unfound meshes are no error (plots need no meshes).
 struct RunFolder {
   std::string folder;
   RunScene scene;
   RunFrames frames;
 };
-RunFolder readRunFolder(const std::string& folder, bool resolveMeshes = true);
+RunFolder readRunFolder(const std::string& folder, bool loadMeshes = true);
 
 }  // namespace sdfccd::cli

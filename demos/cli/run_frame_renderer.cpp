@@ -73,7 +73,7 @@ struct RunFrameRenderer::Impl {
       render::RenderMesh mesh;
       mesh.name = bodies[i].name;
       mesh.mesh = bodies[i].mesh;
-      mesh.scale = bodies[i].scale;
+      mesh.scale = 1.0;  // RunBody meshes are scaled already
       mesh.worldFromBody = worldFromBody[i];
       mesh.color = bodies[i].isStatic ? render::Color(0.62f, 0.64f, 0.70f)
                                       : kPalette[i % (sizeof(kPalette) / sizeof(kPalette[0]))];

@@ -51,7 +51,8 @@ FrameRenderSettings frameRenderSettingsFor(const RunScene& scene);
 /// Renders the frames of one run. Not thread-safe (one per thread).
 class RunFrameRenderer {
  public:
-  /// `bodies` in the order in which poses will be given; their meshes must be loaded (loadRunMeshes).
+  /// `bodies` in the order in which poses will be given; their meshes must be loaded, scaled and in the body
+  /// frame the poses are of (loadRunMeshes does that; a simulation can pass its models' meshes in body frame).
   /// Throws sdfccd::Error for a body without a mesh, bad settings, or a build without the renderer.
   RunFrameRenderer(std::vector<RunBody> bodies, FrameRenderSettings settings);
   ~RunFrameRenderer();

@@ -104,11 +104,18 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
          << "set style line 1 linewidth 1.5\n";
   std::vector<std::pair<std::string, std::string>> renames;  // temporary -> final
   int column = 3;
+  // The penetration's unit follows its column: grid cells or metres.
+  auto yLabel = [&](const PlotSpec* plot) -> std::string {
+    if (std::string(plot->series) != "penetration") return plot->yLabel;
+    auto source = frames.seriesSource.find("penetration");
+    const bool cells = source != frames.seriesSource.end() && source->second.find("cells") != std::string::npos;
+    return cells ? "penetration (grid cells)" : "penetration (m)";
+  };
   for (const PlotSpec* plot : present) {
     const std::string finalPath = (fs::path(dir) / plot->file).string();
     const std::string temporary = finalPath + ".tmp-gnuplot";
     script << "set output " << quoted(temporary) << "\nset title " << quoted(plot->title) << "\nset ylabel "
-           << quoted(plot->yLabel) << "\nplot " << quoted(dataPath) << " using 2:" << column
+           << quoted(yLabel(plot)) << "\nplot " << quoted(dataPath) << " using 2:" << column
            << " with lines linewidth 1.5 linecolor rgb '" << plot->color << "'\nunset output\n";
     renames.emplace_back(temporary, finalPath);
     ++column;
@@ -124,7 +131,7 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
          << rows << ",2\n";
   column = 3;
   for (const PlotSpec* plot : present) {
-    script << "set title " << quoted(plot->title) << "\nset ylabel " << quoted(plot->yLabel) << "\nplot "
+    script << "set title " << quoted(plot->title) << "\nset ylabel " << quoted(yLabel(plot)) << "\nplot "
            << quoted(dataPath) << " using 2:" << column << " with lines linewidth 1.5 linecolor rgb '" << plot->color
            << "'\n";
     ++column;
