@@ -19,11 +19,18 @@
 namespace sdfccd {
 namespace detail {
 
+/// A node to visit, and the fraction of the step before which no point below it can touch (its parent's
+/// first contact with the parent's inflated level set).
+struct NodeTask {
+  int node;
+  double tStart;
+};
+
 /// Per-thread buffers of the traversal, reused across queries.
 struct RigidCcdScratch {
-  std::vector<int> current;
-  std::vector<int> next;
-  std::vector<int> frontier;  // the threaded query's work items (the calling thread also runs tasks)
+  std::vector<NodeTask> current;
+  std::vector<NodeTask> next;
+  std::vector<NodeTask> frontier;  // the threaded query's work items (the calling thread also runs tasks)
   SegmentCcdResult segment;
 };
 
@@ -92,11 +99,15 @@ class RigidCcdQuery {
 
   bool ignored(int point) const { return m_settings.ignoredPoints && (*m_settings.ignoredPoints)[point] != 0; }
 
-  /// The culling test of inner node `node` (see field_culling_bounds.h).
-  bool nodeMayCollide(int node, SegmentCcdResult& scratch, RigidCcdStats& stats) const {
+  /// The culling test of inner node `node` (see field_culling_bounds.h) on the part [tStart, 1] of the step.
+  /// When it may collide, `outFirst` is a fraction before which no point below the node touches.
+  bool nodeMayCollide(int node, double tStart, SegmentCcdResult& scratch, RigidCcdStats& stats,
+                      double& outFirst) const {
+    outFirst = tStart;
     const Vec3& c = m_tree.center(node);
-    const Vec3 c0 = startOf(c);
+    const Vec3 cStart = startOf(c);
     const Vec3 c1 = endOf(c);
+    const Vec3 c0 = tStart > 0.0 ? Vec3(cStart + tStart * (c1 - cStart)) : cStart;
     const double rho = m_tree.radius(node);
     // Slack against rounding: the points' segments are computed with different roundings than the centre's.
     const double reach = m_bounds.lipschitz * rho * (1.0 + 1e-9);
@@ -108,11 +119,22 @@ class RigidCcdQuery {
         return true;  // the centre passes outside the box near a face low enough to touch: keep (conservative)
       }
     }
+    const double sigmaNode = m_settings.sigma + reach;
+    // Lipschitz early-out (short steps, the simulation case): phi along the segment stays above
+    // phi(c0) - lipschitz * |c1 - c0|, on the part inside the box when c0 is (the box is convex).
+    if (!m_bounds.bounded || m_bounds.box.contains(c0)) {
+      const double lowest = m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * (1.0 + 1e-9);
+      if (lowest > sigmaNode) return false;
+    }
     SegmentCcdSettings nodeSettings = m_node;
-    nodeSettings.sigma = m_settings.sigma + reach;
+    nodeSettings.sigma = sigmaNode;
     ++stats.segmentQueries;
     m_field.intersectSegment(c0, c1, nodeSettings, scratch);
-    return scratch.hit();
+    if (!scratch.hit()) return false;
+    // Before the centre first reaches sigma + lipschitz * rho, no point below touches (the box-margin case
+    // returned above). The margin keeps rounding on the safe side.
+    outFirst = std::max(tStart, tStart + scratch.fraction * (1.0 - tStart) - 1e-9);
+    return true;
   }
 
   /// The query of one point; appends a contact when it touches.
@@ -137,14 +159,15 @@ class RigidCcdQuery {
 
   /// Breadth-first traversal from the nodes in `current` (consumed); stops early when the frontier reaches
   /// `stopAt` nodes (0: never), leaving it in `current`.
-  void traverse(std::vector<int>& current, std::vector<int>& next, SegmentCcdResult& scratch,
+  void traverse(std::vector<NodeTask>& current, std::vector<NodeTask>& next, SegmentCcdResult& scratch,
                 std::vector<PointContact>& outContacts, RigidCcdStats& stats, std::size_t stopAt) const {
     const int* firstChild = m_tree.firstChildren().data();
     const int* childCount = m_tree.childCounts().data();
     while (!current.empty()) {
       if (stopAt > 0 && current.size() >= stopAt) return;
       next.clear();
-      for (const int node : current) {
+      for (const NodeTask& task : current) {
+        const int node = task.node;
         if (childCount[node] == 0) {
           const int point = m_tree.point(node);
           if (ignored(point)) continue;
@@ -153,8 +176,9 @@ class RigidCcdQuery {
           continue;
         }
         ++stats.nodesVisited;
-        if (!nodeMayCollide(node, scratch, stats)) continue;
-        for (int c = 0; c < childCount[node]; ++c) next.push_back(firstChild[node] + c);
+        double first = 0.0;
+        if (!nodeMayCollide(node, task.tStart, scratch, stats, first)) continue;
+        for (int c = 0; c < childCount[node]; ++c) next.push_back({firstChild[node] + c, first});
       }
       current.swap(next);
     }
@@ -165,7 +189,7 @@ class RigidCcdQuery {
     RigidCcdScratch& scratch = rigidCcdScratch();
     if (m_settings.useTree) {
       scratch.current.clear();
-      scratch.current.push_back(0);
+      scratch.current.push_back({0, 0.0});
       const std::size_t split = threads > 1 ? static_cast<std::size_t>(16 * threads) : 0;
       traverse(scratch.current, scratch.next, scratch.segment, out.contacts, out.stats, split);
       if (!scratch.current.empty()) {
@@ -179,7 +203,7 @@ class RigidCcdQuery {
     } else {
       scratch.frontier.clear();
       for (int p = 0; p < m_tree.pointCount(); ++p) {
-        if (!ignored(p)) scratch.frontier.push_back(p);
+        if (!ignored(p)) scratch.frontier.push_back({p, 0.0});
       }
       runParallel(scratch.frontier, threads, out);
     }
@@ -190,7 +214,7 @@ class RigidCcdQuery {
 
  private:
   // Tree mode: `items` are frontier nodes, each traversed to the bottom by one task. Linear mode: points.
-  void runParallel(const std::vector<int>& items, int threads, RigidCcdResult& out) const {
+  void runParallel(const std::vector<NodeTask>& items, int threads, RigidCcdResult& out) const {
     constexpr std::size_t kLinearBlock = 256;
     const bool tree = m_settings.useTree;
     const std::size_t tasks = tree ? items.size() : (items.size() + kLinearBlock - 1) / kLinearBlock;
@@ -205,7 +229,7 @@ class RigidCcdQuery {
       } else {
         const std::size_t end = std::min(items.size(), (task + 1) * kLinearBlock);
         for (std::size_t n = task * kLinearBlock; n < end; ++n) {
-          queryPoint(items[n], local.segment, contacts[thread], stats[thread]);
+          queryPoint(items[n].node, local.segment, contacts[thread], stats[thread]);
         }
       }
     });
@@ -251,7 +275,8 @@ bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node
     query.queryPoint(tree.point(node), scratch, contacts, stats);
     return !contacts.empty();
   }
-  return query.nodeMayCollide(node, scratch, stats);
+  double first = 0.0;
+  return query.nodeMayCollide(node, 0.0, scratch, stats, first);
 }
 
 }  // namespace sdfccd
