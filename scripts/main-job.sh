@@ -7,5 +7,5 @@ bash scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
 mkdir -p out
-./build/demos/sdfccd build-sdf assets/meshes/bunny.off --resolution 128 --padding 4 -o out/bunny-128.sdf
-./build/demos/sdfccd info out/bunny-128.sdf
+# Paper Fig. 10a: 20 bunnies dropped onto the ground, headless (fields and shells cached in out/cache).
+./build/demos/sdfccd simulate assets/scenes/drop-bunnies.json --out out/drop-bunnies

@@ -1,6 +1,8 @@
 /// @file
 /// @brief `sdfccd simulate SCENE [--frames N] [--out DIR]`: runs a scene headless in Bullet with the
-/// continuous penalty contact of Section 4.1 (or the discrete baseline), writing per-frame CSV and a summary.
+/// continuous penalty contact of Section 4.1 (or the discrete baseline), writing a run folder: frames.csv
+/// (wide layout: one row per frame, `<body>.px` ... `<body>.wz` at the centre of mass, then contacts,
+/// penetration in cells, kinetic_energy in J, ccd_seconds, step_seconds, clamps), summary.json and scene.json.
 #if __has_include("sdfccd/bullet/scene_world.h")
 
 #include <btBulletDynamicsCommon.h>
@@ -9,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -85,7 +88,7 @@ int runSimulate(const SimulateOptions& o) {
       out << "," << n << "." << c;
     }
   }
-  out << ",contacts,penetration_cells,ccd_ms,step_ms,clamps\n";
+  out << ",contacts,penetration,kinetic_energy,ccd_seconds,step_seconds,clamps\n";
 
   bool nan = false;
   int done = 0;
@@ -103,8 +106,8 @@ int runSimulate(const SimulateOptions& o) {
             << s.angularVelocity.x() << "," << s.angularVelocity.y() << "," << s.angularVelocity.z();
       }
       const SceneFrameStats& last = world->lastFrame();
-      out << "," << last.contacts << "," << last.penetrationCells << "," << last.ccdSeconds * 1e3 << ","
-          << last.stepSeconds * 1e3 << "," << last.clamps << "\n";
+      out << "," << last.contacts << "," << last.penetrationCells << "," << world->kineticEnergy() << ","
+          << last.ccdSeconds << "," << last.stepSeconds << "," << last.clamps << "\n";
       bar.update(double(done) / frames);
       if (world->hasNonFinite()) {
         nan = true;
@@ -113,6 +116,13 @@ int runSimulate(const SimulateOptions& o) {
     }
   }
   csv.commit();
+  {
+    // The run folder carries its scene (sdfccd render / plot read it).
+    std::ifstream sceneFile(o.scene, std::ios::binary);
+    std::ostringstream sceneText;
+    sceneText << sceneFile.rdbuf();
+    writeFileAtomically(outDir + "/scene.json", sceneText.str());
+  }
 
   const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   const std::vector<std::string> tunneled = world->tunneledBodies();
