@@ -5,9 +5,12 @@
 /// approximated by the segment between its start and end positions (Section 3):
 ///   p0 = sdfFromShellStart * x,   p1 = sdfFromShellEnd * x.
 /// The tree is traversed breadth-first; a node is culled when its centre's segment does not reach the level
-/// set sigma + node radius (first hit is enough for inner nodes). Leaves are queried at sigma with the
-/// settings' mode. The linear traversal (useTree = false) queries every point and is the reference: both
-/// return the same contacts.
+/// set sigma + L * node radius (first hit, exact roots, is enough for inner nodes). L is the field's gradient
+/// bound (1 for analytic fields, as in the paper; computed from the values for a grid, whose trilinear
+/// interpolant can be steeper, with a guard at the box faces; see field_culling_bounds.h). A node's children
+/// are tested only from the node's first contact on: no point below it touches earlier. Leaves are queried
+/// at sigma with the settings' method/mode/octree, exactly as the linear traversal (useTree = false) queries
+/// every point: the linear traversal is the reference, and both return bit-identical contacts (tested).
 ///
 /// Thread safety: the tree and the field are read-only; any number of queries may run at once, each with its
 /// own RigidCcdResult.
