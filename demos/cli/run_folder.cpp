@@ -504,8 +504,13 @@ RunFolder readRunFolder(const std::string& folder, bool loadMeshes) {
           break;
         }
       }
-      const fs::path original = fs::absolute(originalScene.empty() ? given : fs::path(originalScene)).parent_path();
-      searchFolders.push_back(original.string());
+      // Like the scene loader: the original scene's folder and its ancestors.
+      fs::path original = fs::absolute(originalScene.empty() ? given : fs::path(originalScene)).parent_path();
+      for (int up = 0; up < 4 && !original.empty(); ++up) {
+        searchFolders.push_back(original.string());
+        if (original == original.parent_path()) break;
+        original = original.parent_path();
+      }
       break;
     }
   }
