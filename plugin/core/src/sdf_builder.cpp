@@ -135,40 +135,36 @@ float roundUp(double v) {
 }
 
 // Candidate triangles as float SoA boxes (rounded outward) plus their BVH positions, padded with boxes at
-// infinity to a multiple of kChunk so that chunk loops need no tail.
+// infinity to a multiple of kChunk so that chunk loops need no tail. Arrays only grow (reused per thread).
 struct CandidateList {
-  std::vector<float> key, lox, loy, loz, hix, hiy, hiz;
+  std::vector<float> lox, loy, loz, hix, hiy, hiz;
   std::vector<int> position;
-  std::size_t size = 0;
+  std::size_t size = 0;     // real entries
+  std::size_t padded = 0;   // entries including the padding
 
-  void clear() {
-    size = 0;
-    position.clear();
-    for (auto* v : {&key, &lox, &loy, &loz, &hix, &hiy, &hiz}) v->clear();
+  void reserve(std::size_t n) {
+    if (position.size() >= n) return;
+    for (auto* v : {&lox, &loy, &loz, &hix, &hiy, &hiz}) v->resize(2 * n);
+    position.resize(2 * n);
   }
-  void push(float k, float x0, float y0, float z0, float x1, float y1, float z1, int q) {
-    key.push_back(k);
-    lox.push_back(x0);
-    loy.push_back(y0);
-    loz.push_back(z0);
-    hix.push_back(x1);
-    hiy.push_back(y1);
-    hiz.push_back(z1);
-    position.push_back(q);
+  void clear() { size = padded = 0; }
+  void push(float x0, float y0, float z0, float x1, float y1, float z1, int q) {
+    reserve(size + 1);
+    lox[size] = x0, loy[size] = y0, loz[size] = z0, hix[size] = x1, hiy[size] = y1, hiz[size] = z1;
+    position[size] = q;
     ++size;
   }
   void pad() {
     const float inf = std::numeric_limits<float>::infinity();
-    while (position.size() % kChunk != 0) {
-      key.push_back(inf);
-      for (auto* v : {&lox, &loy, &loz, &hix, &hiy, &hiz}) v->push_back(inf);
-      position.push_back(-1);
+    padded = (size + kChunk - 1) / kChunk * kChunk;
+    reserve(padded);
+    for (std::size_t m = size; m < padded; ++m) {
+      lox[m] = loy[m] = loz[m] = hix[m] = hiy[m] = hiz[m] = inf;
+      position[m] = -1;
     }
   }
-  std::size_t padded() const { return position.size(); }
-  std::size_t bytes() const { return position.capacity() * (sizeof(int) + 7 * sizeof(float)); }
+  std::size_t bytes() const { return position.capacity() * (sizeof(int) + 6 * sizeof(float)); }
 };
-
 
 // The triangles in BVH order as float SoA, for the vectorized distance screen of closestInList().
 struct TriangleSoa {
@@ -195,11 +191,17 @@ struct TriangleSoa {
   std::size_t bytes() const { return 15 * ax.capacity() * sizeof(float); }
 };
 
-// Float screen buffers of one closestInList() call.
+// Float screen buffers of one closestInList() call (grown on demand, reused).
 struct ScreenBuffers {
-  std::vector<std::pair<float, int>> survivors;
   std::vector<float> ax, ay, az, bx, by, bz, cx, cy, cz, nx, ny, nz, invAB, invBC, invCA, d2;
   std::vector<int> position;
+  void reserve(std::size_t n) {
+    if (position.size() >= n) return;
+    for (auto* v : {&ax, &ay, &az, &bx, &by, &bz, &cx, &cy, &cz, &nx, &ny, &nz, &invAB, &invBC, &invCA, &d2}) {
+      v->resize(2 * n);
+    }
+    position.resize(2 * n);
+  }
 };
 
 // Per-thread scratch, reused across blocks.
@@ -302,55 +304,51 @@ SDFCCD_INLINE void screenSurvivors(ScreenBuffers& b, std::size_t count, float px
 // (vectorized), then exact double distances by increasing float estimate until the estimate (less the
 // rounding allowance) exceeds the best exact distance.
 SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const Vec3& p, double& ioBest2,
-                          int& ioPosition, ScreenBuffers& b) {
+                              int& ioPosition, ScreenBuffers& b) {
   const TriangleBvh& bvh = *ctx.bvh;
   const TriangleSoa& soa = *ctx.soa;
   const float bestF = roundUp(std::sqrt(ioBest2)) + ctx.slack;
   const float threshold = bestF * bestF;
   const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y()), pz = static_cast<float>(p.z());
-  const std::size_t padded = l.padded();
+  const std::size_t padded = l.padded;
+  b.reserve(padded + 8);
+  // Stage 1: box bounds; survivors compacted without branches (their pass/fail pattern is unpredictable).
+  int* survivor = b.position.data();
+  const int* position = l.position.data();
   std::size_t count = 0;
-  auto ensure = [&](std::size_t size) {
-    if (b.position.size() >= size) return;
-    for (auto* v : {&b.ax, &b.ay, &b.az, &b.bx, &b.by, &b.bz, &b.cx, &b.cy, &b.cz, &b.nx, &b.ny, &b.nz, &b.invAB,
-                    &b.invBC, &b.invCA, &b.d2})
-      v->resize(2 * size);
-    b.position.resize(2 * size);
-  };
   for (std::size_t c = 0; c < padded; c += kChunk) {
     float d2[kChunk];
     chunkPointBox(l, c, px, py, pz, d2);
     for (int m = 0; m < kChunk; ++m) {
-      if (!(d2[m] <= threshold)) continue;
-      const int q = l.position[c + m];
-      if (q == ioPosition) continue;
-      ensure(count + 1);
-      b.ax[count] = soa.ax[q], b.ay[count] = soa.ay[q], b.az[count] = soa.az[q];
-      b.bx[count] = soa.bx[q], b.by[count] = soa.by[q], b.bz[count] = soa.bz[q];
-      b.cx[count] = soa.cx[q], b.cy[count] = soa.cy[q], b.cz[count] = soa.cz[q];
-      b.nx[count] = soa.nx[q], b.ny[count] = soa.ny[q], b.nz[count] = soa.nz[q];
-      b.invAB[count] = soa.invAB[q], b.invBC[count] = soa.invBC[q], b.invCA[count] = soa.invCA[q];
-      b.position[count] = q;
-      ++count;
+      survivor[count] = position[c + m];
+      count += d2[m] <= threshold ? 1 : 0;
     }
   }
   if (count == 0) return;
-  ensure((count + 7) / 8 * 8);
-  for (std::size_t m = count; m % 8 != 0; ++m) {  // padding lanes: copies of the first survivor
-    for (auto* v : {&b.ax, &b.ay, &b.az, &b.bx, &b.by, &b.bz, &b.cx, &b.cy, &b.cz, &b.nx, &b.ny, &b.nz, &b.invAB,
-                    &b.invBC, &b.invCA})
-      (*v)[m] = (*v)[0];
+  // Stage 2: gather the survivors' float triangles (padding lanes repeat the first) and screen them.
+  const std::size_t lanes = (count + 7) / 8 * 8;
+  for (std::size_t m = count; m < lanes; ++m) survivor[m] = survivor[0];
+  float* const out[15] = {b.ax.data(), b.ay.data(), b.az.data(), b.bx.data(), b.by.data(), b.bz.data(),
+                          b.cx.data(), b.cy.data(), b.cz.data(), b.nx.data(), b.ny.data(), b.nz.data(),
+                          b.invAB.data(), b.invBC.data(), b.invCA.data()};
+  const float* const in[15] = {soa.ax.data(), soa.ay.data(), soa.az.data(), soa.bx.data(), soa.by.data(),
+                               soa.bz.data(), soa.cx.data(), soa.cy.data(), soa.cz.data(), soa.nx.data(),
+                               soa.ny.data(), soa.nz.data(), soa.invAB.data(), soa.invBC.data(), soa.invCA.data()};
+  for (int f = 0; f < 15; ++f) {
+    float* o = out[f];
+    const float* i = in[f];
+    for (std::size_t m = 0; m < lanes; ++m) o[m] = i[survivor[m]];
   }
-  screenSurvivors(b, count, px, py, pz, ctx.areaTolerance);
-  b.survivors.clear();
-  for (std::size_t m = 0; m < count; ++m) {
-    if (b.d2[m] <= threshold) b.survivors.emplace_back(b.d2[m], b.position[m]);
-  }
-  std::sort(b.survivors.begin(), b.survivors.end(),
-            [](const std::pair<float, int>& x, const std::pair<float, int>& y) { return x.first < y.first; });
+  screenSurvivors(b, lanes, px, py, pz, ctx.areaTolerance);
+  // Stage 3: exact distances, the smallest estimate first (usually the answer; it tightens the limit),
+  // then every other survivor whose estimate is still within the limit.
+  const float* estimate = b.d2.data();
+  std::size_t first = 0;
+  for (std::size_t m = 1; m < count; ++m) first = estimate[m] < estimate[first] ? m : first;
   float limit = threshold;
-  for (const auto& [estimate2, q] : b.survivors) {
-    if (estimate2 > limit) break;
+  auto test = [&](std::size_t m) {
+    const int q = survivor[m];
+    if (q == ioPosition) return;
     const double e2 = bvh.squaredDistance(p, q);
     if (e2 < ioBest2) {
       ioBest2 = e2;
@@ -358,19 +356,32 @@ SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const 
       const float f = roundUp(std::sqrt(ioBest2)) + ctx.slack;
       limit = f * f;
     }
+  };
+  if (estimate[first] <= limit) test(first);
+  for (std::size_t m = 0; m < count; ++m) {
+    if (m != first && estimate[m] <= limit) test(m);
   }
 }
 
 // Copies the entries of `parent` whose box lies within `bound` of the node box [lo, hi] into `child`.
-SDFCCD_HOT void filterList(const Context& ctx, const CandidateList& parent, const Vec3& lo, const Vec3& hi, double bound,
-                       CandidateList& child) {
-  child.clear();
+SDFCCD_HOT void filterList(const Context& ctx, const CandidateList& parent, const Vec3& lo, const Vec3& hi,
+                           double bound, CandidateList& child) {
   const Vec8f qlx = splat8(roundDown(lo.x())), qly = splat8(roundDown(lo.y())), qlz = splat8(roundDown(lo.z()));
   const Vec8f qhx = splat8(roundUp(hi.x())), qhy = splat8(roundUp(hi.y())), qhz = splat8(roundUp(hi.z()));
   const Vec8f zero = splat8(0.0f);
   const float b = roundUp(bound) + ctx.slack;
   const float b2 = b * b;
-  const std::size_t padded = parent.padded();
+  const std::size_t padded = parent.padded;
+  child.clear();
+  child.reserve(padded + kChunk);
+  float* lox = child.lox.data();
+  float* loy = child.loy.data();
+  float* loz = child.loz.data();
+  float* hix = child.hix.data();
+  float* hiy = child.hiy.data();
+  float* hiz = child.hiz.data();
+  int* position = child.position.data();
+  std::size_t count = 0;
   for (std::size_t c = 0; c < padded; c += kChunk) {
     float d2[kChunk];
     for (int m = 0; m < kChunk; m += 8) {
@@ -380,13 +391,16 @@ SDFCCD_HOT void filterList(const Context& ctx, const CandidateList& parent, cons
       const Vec8f gz = max8(max8(load8(&parent.loz[e]) - qhz, qlz - load8(&parent.hiz[e])), zero);
       store8(d2 + m, gx * gx + gy * gy + gz * gz);
     }
+    // Branch-free compaction: every entry is written, only the passing ones advance the count.
     for (int m = 0; m < kChunk; ++m) {
-      if (!(d2[m] <= b2)) continue;
       const std::size_t e = c + m;
-      child.push(0.0f, parent.lox[e], parent.loy[e], parent.loz[e], parent.hix[e], parent.hiy[e], parent.hiz[e],
-                 parent.position[e]);
+      lox[count] = parent.lox[e], loy[count] = parent.loy[e], loz[count] = parent.loz[e];
+      hix[count] = parent.hix[e], hiy[count] = parent.hiy[e], hiz[count] = parent.hiz[e];
+      position[count] = parent.position[e];
+      count += d2[m] <= b2 ? 1 : 0;
     }
   }
+  child.size = count;
   child.pad();
 }
 
@@ -474,7 +488,7 @@ void distanceBlock(const Context& ctx, const Block& block, Scratch& s, float* ou
   CandidateList& top = s.level[0];
   top.clear();
   for (const int q : s.bvhCandidates) {
-    top.push(0.0f, roundDown(bvh.boxLo(q).x()), roundDown(bvh.boxLo(q).y()), roundDown(bvh.boxLo(q).z()),
+    top.push(roundDown(bvh.boxLo(q).x()), roundDown(bvh.boxLo(q).y()), roundDown(bvh.boxLo(q).z()),
              roundUp(bvh.boxHi(q).x()), roundUp(bvh.boxHi(q).y()), roundUp(bvh.boxHi(q).z()), q);
   }
   top.pad();
