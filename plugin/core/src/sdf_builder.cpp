@@ -166,29 +166,24 @@ struct CandidateList {
   std::size_t bytes() const { return position.capacity() * (sizeof(int) + 6 * sizeof(float)); }
 };
 
-// The triangles in BVH order as float SoA, for the vectorized distance screen of closestInList().
-struct TriangleSoa {
-  std::vector<float> ax, ay, az, bx, by, bz, cx, cy, cz;  // corners
-  std::vector<float> nx, ny, nz;                          // unit normal
-  std::vector<float> invAB, invBC, invCA;                 // 1 / squared edge lengths
+// The triangles in BVH order as float records of one cache line each (corners, unit normal, inverse squared
+// edge lengths), for the vectorized distance screen of closestInList(): a survivor costs one line to fetch.
+struct TriangleRecords {
+  static constexpr int kFields = 16;  // 15 used, 1 padding
+  std::vector<float> data;            // kFields floats per BVH position
 
-  explicit TriangleSoa(const TriangleBvh& bvh) {
-    const std::size_t n = bvh.size();
-    for (auto* v : {&ax, &ay, &az, &bx, &by, &bz, &cx, &cy, &cz, &nx, &ny, &nz, &invAB, &invBC, &invCA}) v->resize(n);
-    for (std::size_t q = 0; q < n; ++q) {
+  explicit TriangleRecords(const TriangleBvh& bvh) : data(bvh.size() * kFields, 0.0f) {
+    for (std::size_t q = 0; q < bvh.size(); ++q) {
       const int i = static_cast<int>(q);
       const Vec3 &a = bvh.a(i), &b = bvh.b(i), &c = bvh.c(i);
       const Vec3 normal = (b - a).cross(c - a).normalized();
-      ax[q] = static_cast<float>(a.x()), ay[q] = static_cast<float>(a.y()), az[q] = static_cast<float>(a.z());
-      bx[q] = static_cast<float>(b.x()), by[q] = static_cast<float>(b.y()), bz[q] = static_cast<float>(b.z());
-      cx[q] = static_cast<float>(c.x()), cy[q] = static_cast<float>(c.y()), cz[q] = static_cast<float>(c.z());
-      nx[q] = static_cast<float>(normal.x()), ny[q] = static_cast<float>(normal.y()), nz[q] = static_cast<float>(normal.z());
-      invAB[q] = static_cast<float>(1.0 / (b - a).squaredNorm());
-      invBC[q] = static_cast<float>(1.0 / (c - b).squaredNorm());
-      invCA[q] = static_cast<float>(1.0 / (a - c).squaredNorm());
+      const double fields[15] = {a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), c.x(), c.y(), c.z(), normal.x(),
+                                 normal.y(), normal.z(), 1.0 / (b - a).squaredNorm(), 1.0 / (c - b).squaredNorm(),
+                                 1.0 / (a - c).squaredNorm()};
+      for (int f = 0; f < 15; ++f) data[q * kFields + f] = static_cast<float>(fields[f]);
     }
   }
-  std::size_t bytes() const { return 15 * ax.capacity() * sizeof(float); }
+  std::size_t bytes() const { return data.capacity() * sizeof(float); }
 };
 
 // Float screen buffers of one closestInList() call (grown on demand, reused).
@@ -214,7 +209,7 @@ struct Scratch {
 
 struct Context {
   const TriangleBvh* bvh;
-  const TriangleSoa* soa;
+  const TriangleRecords* records;
   const SdfGridLayout* layout;
   const MeshPseudonormals* normals;  // null: leave the distance unsigned (the winding pass signs it)
   float slack;  // absolute float rounding allowance on lower bounds (model units)
@@ -306,7 +301,7 @@ SDFCCD_INLINE void screenSurvivors(ScreenBuffers& b, std::size_t count, float px
 SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const Vec3& p, double& ioBest2,
                               int& ioPosition, ScreenBuffers& b) {
   const TriangleBvh& bvh = *ctx.bvh;
-  const TriangleSoa& soa = *ctx.soa;
+  const float* records = ctx.records->data.data();
   const float bestF = roundUp(std::sqrt(ioBest2)) + ctx.slack;
   const float threshold = bestF * bestF;
   const float px = static_cast<float>(p.x()), py = static_cast<float>(p.y()), pz = static_cast<float>(p.z());
@@ -331,13 +326,9 @@ SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const 
   float* const out[15] = {b.ax.data(), b.ay.data(), b.az.data(), b.bx.data(), b.by.data(), b.bz.data(),
                           b.cx.data(), b.cy.data(), b.cz.data(), b.nx.data(), b.ny.data(), b.nz.data(),
                           b.invAB.data(), b.invBC.data(), b.invCA.data()};
-  const float* const in[15] = {soa.ax.data(), soa.ay.data(), soa.az.data(), soa.bx.data(), soa.by.data(),
-                               soa.bz.data(), soa.cx.data(), soa.cy.data(), soa.cz.data(), soa.nx.data(),
-                               soa.ny.data(), soa.nz.data(), soa.invAB.data(), soa.invBC.data(), soa.invCA.data()};
-  for (int f = 0; f < 15; ++f) {
-    float* o = out[f];
-    const float* i = in[f];
-    for (std::size_t m = 0; m < lanes; ++m) o[m] = i[survivor[m]];
+  for (std::size_t m = 0; m < lanes; ++m) {
+    const float* record = records + static_cast<std::size_t>(survivor[m]) * TriangleRecords::kFields;
+    for (int f = 0; f < 15; ++f) out[f][m] = record[f];
   }
   screenSurvivors(b, lanes, px, py, pz, ctx.areaTolerance);
   // Stage 3: exact distances, the smallest estimate first (usually the answer; it tightens the limit),
@@ -593,9 +584,9 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
   const bool winding = stats.signMethod == SdfSignMethod::WindingNumber;
   std::unique_ptr<MeshPseudonormals> normals;
   if (!winding) normals = std::make_unique<MeshPseudonormals>(mesh);
-  const TriangleSoa soa(bvh);
+  const TriangleRecords records(bvh);
   const double epsilonF = std::numeric_limits<float>::epsilon();
-  Context ctx{&bvh, &soa, &layout, normals.get(), static_cast<float>(16.0 * epsilonF * largest),
+  Context ctx{&bvh, &records, &layout, normals.get(), static_cast<float>(16.0 * epsilonF * largest),
               static_cast<float>(128.0 * epsilonF * largest * largest)};
 
   const std::size_t nodeCount = layout.nodeCount();
