@@ -244,7 +244,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
     const int cells = grid->cellCounts().maxCoeff();
     const double ratio = static_cast<double>(field.octree().memoryBytes()) / static_cast<double>(grid->memoryBytes());
-    std::printf("-- %s %dx%dx%d cells: octree %.1f MB = %.1f%% of the grid's %.1f MB (paper: 196%%), built in %.3f s\n",
+    std::printf("-- %s %dx%dx%d cells: octree %.1f MB = %.1f%% of the grid's %.1f MB (paper: ~2x the grid), built in %.3f s\n",
                 fieldName.c_str(), grid->cellCounts().x(), grid->cellCounts().y(), grid->cellCounts().z(),
                 field.octree().memoryBytes() / 1e6, 100.0 * ratio, grid->memoryBytes() / 1e6, buildSeconds);
 
@@ -287,9 +287,10 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
       std::printf("%-22s %7d %-10s %-7s %9lld %12.3f %12s %12s %9lld\n", "openvdb-peer", cells, "vdb-ray", "-",
                   peer.segments, peer.microseconds, "-", "-", peer.peerHits);
       std::printf("   OpenVDB LevelSetRayIntersector (narrow band 3 cells, %.1f MB, converted in %.2f s) vs our exact: "
-                  "%lld our hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
+                  "%lld our hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious; mean |phi| at the hits: "
+                  "OpenVDB %.2e, ours %.2e cells\n",
                   peer.vdbBytes / 1e6, peer.conversionSeconds, peer.exactHits, peer.missed, peer.misplaced,
-                  peer.spurious);
+                  peer.spurious, peer.meanAbsPhiPeer, peer.meanAbsPhiOurs);
       if (csv) {
         csv << "openvdb-peer," << fieldName << ',' << cells << ",vdb-ray,-," << peer.segments << ','
             << peer.microseconds << ",,," << peer.peerHits << ',' << ratio << ",\"" << machineDescription()

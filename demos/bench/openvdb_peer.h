@@ -32,6 +32,8 @@ struct OpenVdbPeerResult {
   long long misplaced = 0;         ///< both hit, more than 1% of a cell apart
   long long spurious = 0;          ///< OpenVDB hits, we do not
   std::size_t vdbBytes = 0;        ///< memory of the VDB grid
+  double meanAbsPhiPeer = 0.0;     ///< mean |phi| / spacing of the trilinear field at OpenVDB's hits
+  double meanAbsPhiOurs = 0.0;     ///< the same at ours (same segments, both hit)
 };
 
 /// Runs the peer on `segments` (all must start outside the level set, phi(p0) > 0).

@@ -64,6 +64,7 @@ OpenVdbPeerResult runOpenVdbPeer(const SdfGrid& grid, const std::vector<PeerSegm
   result.microseconds = 1e6 * (cpuSeconds() - cpuStart) / static_cast<double>(std::max<std::size_t>(segments.size(), 1));
 
   result.segments = static_cast<long long>(segments.size());
+  long long both = 0;
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const bool ours = segments[s].exactFraction >= 0.0, theirs = peer[s] >= 0.0;
     result.exactHits += ours;
@@ -73,7 +74,15 @@ OpenVdbPeerResult runOpenVdbPeer(const SdfGrid& grid, const std::vector<PeerSegm
     if (ours && theirs) {
       const double length = (segments[s].p1 - segments[s].p0).norm();
       if (std::abs(peer[s] - segments[s].exactFraction) * length > 0.01 * h) ++result.misplaced;
+      const Vec3 d = segments[s].p1 - segments[s].p0;
+      result.meanAbsPhiPeer += std::abs(grid.interpolate(segments[s].p0 + peer[s] * d)) / h;
+      result.meanAbsPhiOurs += std::abs(grid.interpolate(segments[s].p0 + segments[s].exactFraction * d)) / h;
+      ++both;
     }
+  }
+  if (both > 0) {
+    result.meanAbsPhiPeer /= static_cast<double>(both);
+    result.meanAbsPhiOurs /= static_cast<double>(both);
   }
   return result;
 }
