@@ -54,6 +54,22 @@ TEST(SegmentCcd, RandomFieldsWithSeveralRootsPerCellMatchBruteForce) {
   }
 }
 
+TEST(SegmentCcd, RandomFieldDenseReferenceWithTenToTheFiveSamples) {
+  // 10^5 samples per segment over a few cells: every sub-interval wider than ~1e-5 of the step is resolved.
+  const auto grid = test::randomGrid({5, 5, 5}, Vec3(1.0, -2.0, 0.5), 0.25, 23);
+  const GridField field(grid);
+  std::mt19937 rng(31);
+  const Box3 box = grid->box();
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  for (int n = 0; n < 60; ++n) {
+    const Vec3 p0 = box.min() + (box.max() - box.min()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 p1 = box.min() + (box.max() - box.min()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const double sigma = 0.1 * (n % 5) - 0.2;
+    const SegmentCcdResult all = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
+    ASSERT_TRUE(matchesBruteForce(*grid, p0, p1, sigma, all, 100000, 1e-6)) << describe(p0, p1, sigma);
+  }
+}
+
 TEST(SegmentCcd, RandomFieldShortSegmentsInsideOneCellFindEveryRoot) {
   // Very short segments resolve every root of a cell's cubic with the reference's sampling.
   const auto grid = test::randomGrid({3, 3, 3}, Vec3::Zero(), 1.0, 5);
@@ -243,6 +259,19 @@ TEST(SegmentCcd, FullyOutsideSegmentsAreOutsideField) {
               SegmentState::OutsideField);
     EXPECT_EQ(field.intersectSegment(Vec3(4, 0, 0), Vec3(0, 0, -4), settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree)).state,
               SegmentState::OutsideField);
+  }
+}
+
+TEST(SegmentCcd, DistanceIsTrilinearInsideAndPositiveOutsideTheBox) {
+  const auto grid = bumpyGrid();
+  const GridField field(grid);
+  const Vec3 inside(1.3, 1.6, 1.7);
+  EXPECT_EQ(field.distance(inside), grid->interpolate(inside));
+  EXPECT_EQ(field.gradient(inside), grid->gradient(inside));
+  const Vec3 face(3.0, 1.5, 1.5);
+  for (double step : {0.1, 1.0, 10.0}) {
+    EXPECT_GT(field.distance(face + Vec3(step, 0, 0)), 0.0);
+    EXPECT_GE(field.distance(face + Vec3(step, 0, 0)), step);
   }
 }
 
