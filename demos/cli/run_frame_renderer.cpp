@@ -45,6 +45,25 @@ bool RunFrameRenderer::wantsFrame(int frameNumber) const {
   return frameNumber >= 0 && frameNumber % std::max(1, m_settingsEvery) == 0;
 }
 
+std::unique_ptr<RunFrameRenderer> makeSceneFrameRenderer(const std::string& scenePath, const std::string& size,
+                                                         int every, const std::string& outputDir) {
+#if !SDFCCD_HAS_RENDER
+  throw Error("this sdfccd was built without the renderer (-DSDFCCD_BUILD_RENDER=OFF)");
+#endif
+  RunScene scene = readRunScene(scenePath);
+  FrameRenderSettings settings = frameRenderSettingsFor(scene);
+  parseImageSize(size, settings.width, settings.height);
+  if (every < 1) throw Error("--every must be at least 1 (got " + std::to_string(every) + ")");
+  settings.every = every;
+  std::error_code error;
+  std::filesystem::create_directories(outputDir, error);
+  if (error || !std::filesystem::is_directory(outputDir)) {
+    throw Error("cannot create the frames folder '" + outputDir + "'" + (error ? ": " + error.message() : ""));
+  }
+  loadRunMeshes(scene);
+  return std::make_unique<RunFrameRenderer>(scene.bodies, settings);
+}
+
 #if SDFCCD_HAS_RENDER
 
 namespace {

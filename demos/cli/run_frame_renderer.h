@@ -48,6 +48,14 @@ void parseImageSize(const std::string& text, int& outWidth, int& outHeight);
 /// The settings for a scene: its ground and camera.
 FrameRenderSettings frameRenderSettingsFor(const RunScene& scene);
 
+/// A body pose from a position (centre of mass, m) and an orientation, as the simulation reports them.
+inline Rigid bodyPose(const Vec3& position, const Quat& orientation) {
+  Rigid worldFromBody = Rigid::Identity();
+  worldFromBody.linear() = orientation.normalized().toRotationMatrix();
+  worldFromBody.translation() = position;
+  return worldFromBody;
+}
+
 /// Renders the frames of one run. Not thread-safe (one per thread).
 class RunFrameRenderer {
  public:
@@ -82,5 +90,12 @@ class RunFrameRenderer {
   std::unique_ptr<Impl> m_impl;
   int m_settingsEvery = 1;
 };
+
+/// For `sdfccd simulate SCENE --render DIR [--every K] [--size WxH]`: reads SCENE's bodies, ground and camera
+/// (readRunScene), loads their meshes into the body frame (loadRunMeshes), creates DIR, and returns a renderer
+/// for poses given in scene body order. Throws sdfccd::Error for a bad size, every < 1, a folder that cannot be
+/// created, a mesh that cannot be loaded, or a build without the renderer.
+std::unique_ptr<RunFrameRenderer> makeSceneFrameRenderer(const std::string& scenePath, const std::string& size,
+                                                         int every, const std::string& outputDir);
 
 }  // namespace sdfccd::cli
