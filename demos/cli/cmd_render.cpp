@@ -81,8 +81,10 @@ std::string writeVideo(const std::vector<std::string>& framePaths, double frames
                                     videoPath + ".log");
   fs::remove(listPath);
   if (run.exitCode != 0) {
+    // The video is optional: the frames and the sheet are written, so a failing ffmpeg is a warning only.
     fs::remove(temporary);
-    throw Error("ffmpeg failed making '" + videoPath + "' (exit " + std::to_string(run.exitCode) + "): " + run.logTail);
+    return "warning: no MP4: ffmpeg failed (exit " + std::to_string(run.exitCode) + "): " + run.logTail +
+           " (log: " + videoPath + ".log)";
   }
   fs::rename(temporary, videoPath);
   fs::remove(videoPath + ".log");
