@@ -100,6 +100,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   }
   if (settings.timeOfImpactClamp) m_scene.contact.timeOfImpactClamp = *settings.timeOfImpactClamp;
   if (settings.useTree) m_scene.contact.useTree = *settings.useTree;
+  if (settings.forceTiming) m_scene.contact.forceTiming = *settings.forceTiming;
 
   // Models: one per distinct mesh + parameters.
   std::map<std::string, std::shared_ptr<const SdfccdBodyModel>> shared;
@@ -133,7 +134,9 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   m_bullet = std::make_unique<SceneWorldBullet>();
   m_world = &m_bullet->world;
   m_world->setGravity(m_scene.has("gravity") ? toBt(m_scene.gravity) : btVector3(0, 0, 0));
-  m_contacts = registerSdfccdAlgorithms(m_world, contactSettingsFor(m_scene));
+  SdfccdContactSettings contactSettings = contactSettingsFor(m_scene);
+  contactSettings.shadowLinearEvery = settings.shadowLinearEvery;
+  m_contacts = registerSdfccdAlgorithms(m_world, contactSettings);
 
   if (m_scene.has("ground")) {
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(m_scene.groundHeight));
@@ -170,6 +173,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
         body->setAngularFactor(btVector3(0, 0, 0));  // no rotation effect: the bodies only translate
       }
     }
+    if (!settings.allowSleeping && !b.isStatic) body->setActivationState(DISABLE_DEACTIVATION);
     m_world->addRigidBody(body.get());
     m_bodies.push_back(body.get());
     m_bullet->shapes.push_back(std::move(shape));

@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
+#include <type_traits>
 
 #include "sdfccd/analytic_fields.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
@@ -53,6 +55,14 @@ Rigid interpolatePose(const Rigid& start, const Rigid& end, double t) {
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// CPU time of the calling thread (s): the CCD is single threaded, and on a shared machine wall time would
+// count other processes.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 bool isPlane(const btCollisionShape* shape) { return shape->getShapeType() == STATIC_PLANE_PROXYTYPE; }
@@ -258,10 +268,21 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   ccd.octree = m_settings.octree;
   ccd.useTree = m_settings.useTree;
   ccd.threads = 1;
-  const auto ccdStart = std::chrono::steady_clock::now();
+  const double ccdStart = threadCpuSeconds();
   // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
   rigidCcd(model.tree(), field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, ccd, m_scratch);
-  m_stats.ccdSeconds += seconds(ccdStart);
+  const double ccdSeconds = threadCpuSeconds() - ccdStart;
+  if (!closestPointsOnly && m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0 &&
+      !std::is_same_v<Field, PlaneField>) {
+    RigidCcdSettings linear = ccd;
+    linear.useTree = false;
+    const double shadowStart = threadCpuSeconds();
+    rigidCcd(model.tree(), field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, linear,
+             m_shadowScratch);
+    m_stats.shadowLinearSeconds += threadCpuSeconds() - shadowStart;
+  }
+  m_stats.ccdSeconds += ccdSeconds;
+  if constexpr (std::is_same_v<Field, PlaneField>) m_stats.groundCcdSeconds += ccdSeconds;
   ++m_stats.ccdQueries;
   m_stats.segmentQueries += m_scratch.stats.segmentQueries;
   if (m_scratch.contacts.empty()) return;
@@ -380,6 +401,8 @@ void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {
 }
 
 void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
+  if (m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0) ++m_stats.shadowSteps;
+  ++m_stepCounter;
   m_lastContacts.clear();
   m_lastContactCount = 0;
   m_lastMaxPenetrationCells = 0.0;

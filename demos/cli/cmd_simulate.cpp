@@ -37,6 +37,7 @@ struct SimulateOptions {
   double stiffness = 0.0;
   bool noToi = false;
   bool linear = false;
+  std::string forceTiming;
 };
 
 std::string hex(std::uint64_t v) {
@@ -68,6 +69,13 @@ int runSimulate(const SimulateOptions& o) {
   if (o.stiffness != 0.0) settings.stiffness = o.stiffness;
   if (o.noToi) settings.timeOfImpactClamp = false;
   if (o.linear) settings.useTree = false;
+  if (o.forceTiming == "next_step") {
+    settings.forceTiming = SdfccdForceTiming::NextStep;
+  } else if (o.forceTiming == "same_step") {
+    settings.forceTiming = SdfccdForceTiming::SameStep;
+  } else if (!o.forceTiming.empty()) {
+    throw Error("--force-timing must be same_step or next_step (got '" + o.forceTiming + "')");
+  }
 
   std::unique_ptr<SceneWorld> world;
   {
@@ -172,6 +180,7 @@ const CommandRegistrar registrar("simulate", [](CLI::App& app) {
   cmd->add_option("--stiffness", o->stiffness, "Override the contact stiffness (N/m per point)");
   cmd->add_flag("--no-toi", o->noToi, "Disable time-of-impact clamping");
   cmd->add_flag("--linear", o->linear, "Point-by-point CCD instead of the point tree");
+  cmd->add_option("--force-timing", o->forceTiming, "Override contact.force_timing: same_step or next_step");
   return std::function<int()>([o]() { return runSimulate(*o); });
 });
 

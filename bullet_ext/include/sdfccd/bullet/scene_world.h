@@ -37,6 +37,9 @@ struct SceneWorldSettings {
   std::optional<double> stiffness;           ///< overrides contact.stiffness (N/m)
   std::optional<bool> timeOfImpactClamp;     ///< overrides contact.toi_clamp
   std::optional<bool> useTree;               ///< overrides contact.tree
+  std::optional<SdfccdForceTiming> forceTiming;  ///< overrides contact.force_timing
+  int shadowLinearEvery = 0;                 ///< see SdfccdContactSettings::shadowLinearEvery
+  bool allowSleeping = true;                 ///< false: bodies never deactivate (benchmarks time every frame)
   ProgressCallback buildProgress;            ///< fraction of the model builds done
 };
 

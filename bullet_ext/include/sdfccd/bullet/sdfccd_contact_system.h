@@ -80,6 +80,10 @@ struct SdfccdContactSettings {
   bool useTree = true;                ///< point tree (true) or point by point (the linear baseline)
   OctreeMode octree = OctreeMode::Full;  ///< cell skipping in grid fields
   int maxManifoldPoints = 4;          ///< manifold points reported per pair (0..4)
+  /// Benchmarks: every n-th step (n > 0) each query is repeated point by point (useTree = false), result
+  /// discarded, and timed into SdfccdContactStatistics::shadowLinearSeconds (paper Table 4: linear vs tree
+  /// on the very same motion). 0: off.
+  int shadowLinearEvery = 0;
 };
 
 /// One (shell body, field body) role of a pair over the last step: the contact report.
@@ -99,7 +103,10 @@ struct SdfccdPairContact {
 
 /// Counters, cumulative since construction or resetStatistics().
 struct SdfccdContactStatistics {
-  double ccdSeconds = 0.0;             ///< wall time in rigid CCD queries (s)
+  double ccdSeconds = 0.0;             ///< CPU time of the calling thread in rigid CCD queries (s), all fields
+  double groundCcdSeconds = 0.0;       ///< the part of ccdSeconds spent against static planes (s)
+  double shadowLinearSeconds = 0.0;    ///< point-by-point repeats (shadowLinearEvery), between bodies only (s)
+  std::int64_t shadowSteps = 0;        ///< steps in which the repeats ran
   double penaltySeconds = 0.0;         ///< wall time integrating the penalty model (s)
   std::int64_t ccdQueries = 0;         ///< rigid CCD queries (two per body pair and step)
   std::int64_t segmentQueries = 0;     ///< segment queries inside them
@@ -159,6 +166,8 @@ class SdfccdContactSystem : public btActionInterface {
   std::vector<Record> m_records;
   std::vector<SdfccdPairContact> m_lastContacts;
   RigidCcdResult m_scratch;
+  RigidCcdResult m_shadowScratch;
+  std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;
   double m_lastMaxPenetrationCells = 0.0;
   int m_lastClamps = 0;
