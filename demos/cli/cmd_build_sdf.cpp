@@ -1,6 +1,9 @@
 /// @file
 /// @brief `sdfccd build-sdf MESH --resolution N [--padding P] [--threads T] [--format native|sdfgen] -o OUT`:
 /// the exact signed distance field of a mesh (paper Section 5, Table 1).
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -24,7 +27,7 @@ struct BuildSdfOptions {
   int resolution = 128;
   int padding = 4;
   int threads = 0;
-  double maxMemoryMiB = 16384.0;
+  double maxMemoryMiB = 0.0;  // 0: half the physical memory
 };
 
 SdfSignMethod parseSign(const std::string& name) {
@@ -36,14 +39,20 @@ SdfSignMethod parseSign(const std::string& name) {
 
 int runBuildSdf(const BuildSdfOptions& o) {
   if (o.threads < 0 || o.threads > 1024) throw Error("--threads must be in 0..1024, got " + std::to_string(o.threads));
-  if (!(o.maxMemoryMiB > 0.0)) throw Error("--max-memory must be positive");
+  if (!(o.maxMemoryMiB >= 0.0)) throw Error("--max-memory must be positive");
+  double maxMemoryMiB = o.maxMemoryMiB;
+  if (maxMemoryMiB == 0.0) {
+    // Half the machine's memory: the grid values plus the builder's temporaries must fit comfortably.
+    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
+    maxMemoryMiB = physical > 0.0 ? std::min(0.5 * physical / (1024.0 * 1024.0), 65536.0) : 4096.0;
+  }
   const SdfFileFormat format = o.format.empty() ? sdfFileFormatForPath(o.output) : parseSdfFileFormat(o.format);
   SdfBuildSettings settings;
   settings.resolution = o.resolution;
   settings.padding = o.padding;
   settings.threads = o.threads;
   settings.signMethod = parseSign(o.sign);
-  settings.maxMemoryBytes = static_cast<std::size_t>(o.maxMemoryMiB * 1024.0 * 1024.0);
+  settings.maxMemoryBytes = static_cast<std::size_t>(maxMemoryMiB * 1024.0 * 1024.0);
 
   { AtomicFile probe(o.output); }  // fails now, not after the build, if the output cannot be written
   MeshRepairReport repairs;
@@ -90,7 +99,7 @@ const CommandRegistrar registrar("build-sdf", [](CLI::App& app) {
   cmd->add_option("-t,--threads", o->threads, "Worker threads (0 = all)");
   cmd->add_option("--format", o->format, "Output format: native or sdfgen (default: from the extension)");
   cmd->add_option("--sign", o->sign, "Sign method: automatic, pseudonormal or winding-number");
-  cmd->add_option("--max-memory", o->maxMemoryMiB, "Refuse grids over this many MiB (default 16384)");
+  cmd->add_option("--max-memory", o->maxMemoryMiB, "Refuse grids over this many MiB (default: half the physical memory)");
   return std::function<int()>([o]() { return runBuildSdf(*o); });
 });
 

@@ -219,11 +219,14 @@ struct Context {
 // Eight floats processed together: GCC/Clang vector extensions (lowered to AVX where the function is
 // compiled for it, to SSE pairs otherwise). Written by hand because GCC 12 at -O2 does not vectorize these
 // loops on its own.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wpsabi"  // Vec8f never crosses a call: every helper is always inlined
+#endif
 typedef float Vec8f __attribute__((vector_size(32)));
 // The two hot functions are compiled twice, for x86-64-v3 (AVX2, FMA) and for the baseline, and the dynamic loader picks
 // one at start-up (GCC function multi-versioning): twice the speed on AVX2 machines, still portable.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(__SANITIZE_THREAD__)
 #define SDFCCD_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define SDFCCD_HOT
