@@ -87,3 +87,46 @@ TEST(Drop, ContactsAreReportedButNotSolvedTwice) {
 
 }  // namespace
 }  // namespace sdfccd
+
+namespace sdfccd {
+namespace {
+
+// A body at rest falls asleep (Bullet's thresholds); another one landing on it wakes it.
+TEST(Drop, SleepingBodyWakesOnContact) {
+  const Scene scene = test::sceneFromText(R"({
+    "timestep": 0.001, "frames": 3000, "effects": ["gravity", "ground", "damping"],
+    "contact": { "stiffness": 2000.0, "damping": 4.0 },
+    "bodies": [
+      { "name": "bottom", "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] }, "mass": 1.0,
+        "position": [0, 0.0499, 0], "points": 300, "resolution": 16 },
+      { "name": "top", "primitive": { "type": "box", "half_extents": [0.05, 0.05, 0.05] }, "mass": 1.0,
+        "position": [0, 5.0, 0], "points": 200, "resolution": 16 } ] })");
+  SceneWorld world(scene);
+  // Bullet's global time a body must stay slow before it sleeps (default 2 s); shortened for the test.
+  struct DeactivationTimeGuard {
+    btScalar saved = gDeactivationTime;
+    ~DeactivationTimeGuard() { gDeactivationTime = saved; }
+  } guard;
+  gDeactivationTime = btScalar(0.3);
+  // Keep the falling box out of the way until the bottom one sleeps: it starts 5 m up (about 1 s of fall).
+  bool slept = false;
+  int frame = 0;
+  for (; frame < 3000 && !slept; ++frame) {
+    world.step();
+    slept = world.body(0).getActivationState() == ISLAND_SLEEPING;
+  }
+  ASSERT_TRUE(slept) << "the bottom box never slept";
+  ASSERT_GT(world.bodyState(1).position.y(), 0.3) << "the top box arrived before the bottom one slept";
+  bool woke = false;
+  for (; frame < 3000 && !woke; ++frame) {
+    world.step();
+    woke = world.body(0).isActive();
+  }
+  EXPECT_TRUE(woke);
+  for (int f = 0; f < 300; ++f) world.step();
+  EXPECT_TRUE(world.tunneledBodies().empty());
+  EXPECT_GT(world.bodyState(1).position.y(), 0.1);  // the top box rests on the bottom one
+}
+
+}  // namespace
+}  // namespace sdfccd

@@ -6,6 +6,7 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/mass_properties.h"
+#include "sdfccd/procedural_meshes.h"
 
 namespace sdfccd {
 namespace {
@@ -109,6 +110,27 @@ TEST(MassProperties, FineSphereApproachesSolidSphere) {
   const double expected = 0.4 * r * r;
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(p.inertiaAboutCenterOfMass(i, i), expected, 2e-3 * expected);
   EXPECT_LT(std::abs(p.inertiaAboutCenterOfMass(0, 1)) + std::abs(p.inertiaAboutCenterOfMass(1, 2)), 1e-9);
+}
+
+// The project's own procedural meshes: makeBox exactly, makeIcosphere within its polyhedral error (an
+// inscribed polyhedron: volume and moments slightly below the sphere's, converging with subdivision).
+TEST(MassProperties, ProceduralBoxAndIcosphere) {
+  const Vec3 h(0.2, 0.1, 0.3);
+  const MassProperties box = computeMassProperties(makeBox(h), byMass(3.0));
+  EXPECT_NEAR(box.volume, 8 * h.prod(), 1e-12);
+  EXPECT_NEAR(box.inertiaAboutCenterOfMass(1, 1), 3.0 / 3.0 * (h.x() * h.x() + h.z() * h.z()), 1e-12);
+  const double r = 0.5;
+  double previousError = 1.0;
+  for (int subdivisions : {2, 3, 4}) {
+    const MassProperties ball = computeMassProperties(makeIcosphere(r, subdivisions), byMass(1.0));
+    const double volumeError = 1.0 - ball.volume / (4.0 / 3.0 * M_PI * r * r * r);
+    EXPECT_GT(volumeError, 0.0);
+    EXPECT_LT(volumeError, previousError / 3.0);  // about 4x smaller per subdivision
+    previousError = volumeError;
+    EXPECT_LT(ball.centerOfMassInMesh.norm(), 1e-12);
+    EXPECT_NEAR(ball.inertiaAboutCenterOfMass(0, 0), 0.4 * r * r, 2.0 * volumeError * 0.4 * r * r);
+  }
+  EXPECT_LT(previousError, 0.01);
 }
 
 TEST(MassProperties, RejectsBadInput) {
