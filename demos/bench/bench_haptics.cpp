@@ -19,6 +19,10 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#if __has_include("sdfccd/io/mesh_loader.h")
+#include "sdfccd/io/mesh_loader.h"
+#define SDFCCD_HAPTICS_HAS_IO 1
+#endif
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"
@@ -26,6 +30,14 @@
 
 namespace sdfccd::cli {
 namespace {
+
+haptics::MeshLoader sceneMeshLoader() {
+#ifdef SDFCCD_HAPTICS_HAS_IO
+  return [](const std::string& path) { return loadMesh(path); };
+#else
+  return {};
+#endif
+}
 
 struct BenchHapticsOptions {
   bool quick = false;
@@ -66,7 +78,7 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
   };
   std::vector<Row> rows;
   for (const char* sceneName : {"peg-in-hole", "peg-in-hole-shrunk"}) {
-    haptics::HapticScene scene = haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json");
+    haptics::HapticScene scene = haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json", sceneMeshLoader());
     for (const int n : counts) {
       haptics::resampleSceneShell(scene, n);
       for (haptics::HapticMethod method : {haptics::HapticMethod::Constraint, haptics::HapticMethod::Penalty}) {

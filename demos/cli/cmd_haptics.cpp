@@ -18,9 +18,21 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#if __has_include("sdfccd/io/mesh_loader.h")
+#include "sdfccd/io/mesh_loader.h"
+#define SDFCCD_HAPTICS_HAS_IO 1
+#endif
 
 namespace sdfccd::cli {
 namespace {
+
+haptics::MeshLoader sceneMeshLoader() {
+#ifdef SDFCCD_HAPTICS_HAS_IO
+  return [](const std::string& path) { return loadMesh(path); };
+#else
+  return {};
+#endif
+}
 
 struct HapticsOptions {
   std::string scene;
@@ -41,7 +53,7 @@ int runHaptics(const HapticsOptions& o) {
   settings.simCyclesPerTick = o.simCyclesPerTick;
   settings.ccdThreads = o.ccdThreads;
   settings.recordTicks = !o.out.empty();
-  const haptics::HapticScene scene = haptics::loadHapticScene(o.scene);
+  const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, sceneMeshLoader());
   if (!o.out.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(o.out, ec);

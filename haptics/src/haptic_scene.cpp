@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include "sdfccd/mass_properties.h"
 #include "sdfccd/point_shell.h"
 #include "sdfccd/procedural_meshes.h"
+#include "sdfccd/sdf_builder.h"
 
 namespace sdfccd::haptics {
 
@@ -155,7 +157,27 @@ void resampleSceneShell(HapticScene& scene, int points) {
   scene.tree = std::make_shared<const PointTree>(sampleShell(*scene.shellMesh, sampling));
 }
 
-HapticScene loadHapticScene(const std::string& path) {
+namespace {
+
+/// A mesh from the scene: loaded, centred on its box centre and scaled so that its longest side is `size`.
+TriangleMesh sceneMesh(const Reader& r, const Json& j, const std::string& sceneFile, const MeshLoader& loader) {
+  if (!j.contains("path") || !j.at("path").is_string()) r.fail("path", "must be a mesh file name");
+  if (!loader) r.fail("path", "needs a mesh loader (this build has no mesh reader)");
+  const std::filesystem::path file =
+      std::filesystem::path(sceneFile).parent_path() / j.at("path").get<std::string>();
+  TriangleMesh mesh = loader(file.string());
+  const Box3 box = mesh.bounds();
+  const double longest = box.sizes().maxCoeff();
+  if (!(longest > 0.0)) r.fail("path", "mesh has no extent");
+  const double scale = r.positive(j, "size", longest) / longest;
+  const Vec3 centre = box.center();
+  for (Vec3& v : mesh.vertices) v = (v - centre) * scale;
+  return mesh;
+}
+
+}  // namespace
+
+HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoader) {
   std::ifstream in(path);
   if (!in) throw Error("cannot open scene '" + path + "'");
   Json root;
@@ -176,6 +198,22 @@ HapticScene loadHapticScene(const std::string& path) {
     const Json& p = r.object(obstacle, "plane");
     scene.plane.emplace(r.vec3(p, "normal"), r.number(p, "offset", 0.0));
     scene.cellSize = r.positive(p, "cellSize", 1e-3);
+  } else if (obstacle.contains("mesh")) {
+    const Json& m = r.object(obstacle, "mesh");
+    const TriangleMesh mesh = sceneMesh(r, m, path, meshLoader);
+    SdfBuildSettings build;
+    build.resolution = static_cast<int>(r.positive(m, "resolution", 64));
+    build.padding = static_cast<int>(r.nonNegative(m, "padding", 4));
+    build.threads = 0;
+    std::shared_ptr<const SdfGrid> grid = buildSdf(mesh, build).grid;
+    const double offsetCells = r.number(m, "offsetCells", 0.0);
+    if (offsetCells != 0.0) {
+      std::vector<float> values = grid->values();
+      for (float& v : values) v = static_cast<float>(v - offsetCells * grid->spacing());
+      grid = std::make_shared<const SdfGrid>(grid->nodeCounts(), grid->origin(), grid->spacing(), std::move(values));
+    }
+    scene.cellSize = grid->spacing();
+    scene.grid = std::make_shared<const GridField>(grid);
   } else {
     CsgObstacle csg;
     csg.spacing = r.positive(obstacle, "spacing", -1.0);
@@ -207,9 +245,27 @@ HapticScene loadHapticScene(const std::string& path) {
   } else if (shape == "sphere") {
     mesh = makeIcosphere(r.positive(shellJson, "radius", -1.0),
                          static_cast<int>(r.nonNegative(shellJson, "subdivisions", 3)));
+  } else if (shape == "mesh") {
+    mesh = sceneMesh(r, shellJson, path, meshLoader);
   } else {
-    r.fail("shell.shape", "must be box, cylinder or sphere");
+    r.fail("shell.shape", "must be box, cylinder, sphere or mesh");
   }
+  MassPropertiesSettings massSettings;
+  massSettings.mass = r.positive(shellJson, "mass", 0.05);
+  scene.mass = massSettings.mass;
+  try {
+    const MassProperties props = computeMassProperties(mesh, massSettings);
+    // The body frame's origin is the centre of mass: move the mesh (and so the shell) onto it.
+    for (Vec3& v : mesh.vertices) v -= props.centerOfMassInMesh;
+    scene.inertiaDiagonal = props.inertiaAboutCenterOfMass.diagonal();
+  } catch (const Error&) {
+    // An open scanned mesh has no enclosed volume: take the solid box around it instead.
+    const Vec3 e = mesh.bounds().sizes();
+    scene.inertiaDiagonal = scene.mass / 12.0 *
+                            Vec3(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(), e.x() * e.x() + e.y() * e.y());
+  }
+  // (Mesh axes are kept: the off-diagonal inertia of an unsymmetric mesh is dropped, an approximation of
+  // the QP's metric and of the penalty object's rotational inertia.)
   ShellSamplingSettings sampling;
   sampling.points = static_cast<int>(r.positive(shellJson, "points", 1000));
   sampling.iterations = static_cast<int>(r.nonNegative(shellJson, "iterations", 10));
@@ -217,11 +273,6 @@ HapticScene loadHapticScene(const std::string& path) {
   scene.tree = std::make_shared<const PointTree>(sampleShell(mesh, sampling));
   scene.shellIterations = sampling.iterations;
   scene.shellMesh = std::make_shared<const TriangleMesh>(mesh);
-  MassPropertiesSettings massSettings;
-  massSettings.mass = r.positive(shellJson, "mass", 0.05);
-  const MassProperties props = computeMassProperties(mesh, massSettings);
-  scene.mass = props.mass;
-  scene.inertiaDiagonal = props.inertiaAboutCenterOfMass.diagonal();
   scene.worldFromBodyStart = r.pose(r.object(root, "start"));
 
   // Scripted user.
@@ -254,7 +305,8 @@ HapticScene loadHapticScene(const std::string& path) {
   g.inertiaDiagonal = scene.inertiaDiagonal;
   g.sigma = 0.02 * cell;
   g.contactThreshold = 0.05 * cell;
-  g.slideFloor = 0.0;
+  g.slideFloor = 0.01 * cell;
+  g.sinkTolerance = 1e-4 * cell;
   g.maxStepTranslation = 2.0 * cell;
   if (root.contains("constraint")) {
     const Json& c = r.object(root, "constraint");
@@ -262,9 +314,11 @@ HapticScene loadHapticScene(const std::string& path) {
     g.renderStiffness = r.nonNegative(c, "renderStiffness", g.renderStiffness);
     g.sigma = r.nonNegative(c, "sigmaCells", 0.02) * cell;
     g.contactThreshold = r.nonNegative(c, "contactThresholdCells", 0.05) * cell;
-    g.slideFloor = r.number(c, "slideFloorCells", 0.0) * cell;
+    g.slideFloor = r.number(c, "slideFloorCells", 0.01) * cell;
+    g.sinkTolerance = r.nonNegative(c, "sinkToleranceCells", 1e-4) * cell;
     g.maxStepTranslation = r.nonNegative(c, "maxStepCells", 2.0) * cell;
     g.maxStepRotation = r.nonNegative(c, "maxStepRotation", g.maxStepRotation);
+    g.depthCorrection = r.nonNegative(c, "depthCorrection", g.depthCorrection);
   }
   if (g.couplingGain > 1.0) r.fail("couplingGain", "must be in (0, 1]");
   if (g.slideFloor > g.sigma) r.fail("slideFloorCells", "must be <= sigmaCells");

@@ -19,12 +19,19 @@
 ///      checked discretely at the new pose: phi - sigma <= contactThreshold keeps them
 ///   7. F_c = k_h M (a_c - a_u), rendered to the device.
 ///
+/// The constraints are linear in the motion, but a rotating body's points follow chords that sink by
+/// ~ r theta^2 / 2 per cycle at active contacts (and so does sliding over concave curvature). Two additions
+/// keep that from accumulating: maxStepRotation bounds theta per cycle, and depthCorrection adds an outward
+/// bias to a_u for contacts that drifted below sigma (the cone of the QP is unchanged).
+///
 /// Two details beyond the paper, both switchable:
 /// - sigma > 0 (a small fraction of a voxel) keeps the god-object a hair off the surface, so the discrete
 ///   re-check of step 6 sees the contacts it just made and rounding never puts a point below phi = 0.
 /// - guardIgnoredPoints: the ignored points get their own CCD at the lower level set slideFloor (<= sigma),
 ///   so a sliding point that runs into a concave corner (where the QP's first-order constraint does not see
-///   the other wall) is stopped there instead of being re-checked only after it went through.
+///   the other wall), or sinks through the second-order effects of curvature and rotation, is stopped there
+///   instead of being re-checked only after it went through. A point already under the floor (by rounding)
+///   is held at its own depth (less sinkTolerance): without that, it would be free to sink once under.
 ///
 /// The discrete variant (continuous = false; paper Fig. 11) skips step 5: it moves to the tentative pose
 /// and takes as contacts every point with phi - sigma <= contactThreshold there.
@@ -58,10 +65,13 @@ struct GodObjectSettings {
   double sigma = 0.0;                   ///< contact level set (model units), >= 0
   double contactThreshold = 0.0;        ///< model units: a point with phi - sigma <= this is in contact
   double slideFloor = 0.0;              ///< level set of the ignored points' guard CCD (model units, <= sigma)
+  double sinkTolerance = 0.0;           ///< model units: how much deeper an ignored point already under the
+                                        ///< floor may go in one cycle (0: not at all)
   bool ignoreContactPoints = true;      ///< the paper's sliding remedy (off only to show why it is needed)
   bool guardIgnoredPoints = true;       ///< run the guard CCD on the ignored points
   double maxStepTranslation = 0.0;      ///< model units per cycle (0: unlimited)
-  double maxStepRotation = 0.1;         ///< rad per cycle (0: unlimited); keeps point paths near-linear
+  double maxStepRotation = 0.01;        ///< rad per cycle (0: unlimited); keeps point paths near-linear
+  double depthCorrection = 1.0;         ///< gain of the outward bias for contacts below sigma (0: off)
   bool continuous = true;               ///< false: the discrete-collision variant (Fig. 11)
   OctreeMode octree = OctreeMode::Leaves;  ///< cell skipping at haptic rates (Section 4.1: leaves)
   CcdMethod ccdMethod = CcdMethod::Exact;
@@ -112,6 +122,8 @@ class GodObject {
       throw Error("god object: mass and inertia must be positive and finite");
     if (!(settings.renderStiffness >= 0.0) || !std::isfinite(settings.renderStiffness))
       throw Error("god object: renderStiffness must be finite and >= 0");
+    if (!(settings.sinkTolerance >= 0.0) || !std::isfinite(settings.sinkTolerance))
+      throw Error("god object: sinkTolerance must be finite and >= 0");
     if (!(settings.sigma >= 0.0) || !(settings.contactThreshold >= 0.0) || !std::isfinite(settings.sigma) ||
         !std::isfinite(settings.contactThreshold) || !std::isfinite(settings.slideFloor) ||
         settings.slideFloor > settings.sigma)
@@ -134,12 +146,29 @@ class GodObject {
     }
     const double ks = m_settings.couplingGain;
     out.unconstrained = ks * poseDifference(m_pose, worldFromDevice);
+    // Depth correction: contacts that drifted below sigma (second-order effects of rotation and curvature,
+    // which the linearized constraints cannot see) bias the request outwards by the deepest shortfall. The
+    // constraint cone is unchanged, so the QP stays a projection onto a cone.
+    Vec6 request = out.unconstrained;
+    if (m_settings.depthCorrection > 0.0) {
+      Vec3 outwards = Vec3::Zero();
+      double deepest = 0.0;
+      for (const GodObjectContact& c : m_contacts) {
+        const double shortfall = m_settings.sigma - c.distance;
+        if (shortfall > 0.0) {
+          outwards -= shortfall * c.normalIntoObstacle;
+          deepest = std::max(deepest, shortfall);
+        }
+      }
+      const double len = outwards.norm();
+      if (len > 0.0) request.head<3>() += (m_settings.depthCorrection * deepest / len) * outwards;
+    }
     const Mat6 mass = massMatrix(m_settings.mass, worldInertia(m_pose, m_settings.inertiaDiagonal));
     m_rows.resize(static_cast<Eigen::Index>(m_contacts.size()), 6);
     for (std::size_t k = 0; k < m_contacts.size(); ++k)
       m_rows.row(static_cast<Eigen::Index>(k)) = contactRow(m_contacts[k].normalIntoObstacle, m_contacts[k].handle);
     out.contactCount = static_cast<int>(m_contacts.size());
-    m_qp.solve(mass, m_rows, out.unconstrained, m_settings.qp, m_qpResult);
+    m_qp.solve(mass, m_rows, request, m_settings.qp, m_qpResult);
     out.qpState = m_qpResult.state;
     out.blocked = m_qpResult.blocked;
     out.constrained = m_qpResult.acceleration;
@@ -204,8 +233,25 @@ class GodObject {
       ccd.useTree = m_contacts.size() * 16 > static_cast<std::size_t>(m_tree.pointCount());
       rigidCcd(m_tree, m_field, start, end, ccd, m_ccd);
       out.segmentQueries += m_ccd.stats.segmentQueries;
-      for (const PointContact& c : m_ccd.contacts)
-        if (c.state == SegmentState::Hit) fraction = std::min(fraction, c.fraction);
+      SegmentCcdSettings sink;
+      sink.mode = CcdMode::FirstHit;
+      sink.method = m_settings.ccdMethod;
+      sink.octree = m_settings.octree;
+      for (const PointContact& c : m_ccd.contacts) {
+        if (c.state == SegmentState::Hit) {
+          fraction = std::min(fraction, c.fraction);
+        } else if (c.state == SegmentState::StartsInside) {
+          // Already below the floor (rounding, the chord of a rotation): it may slide but not sink deeper than
+          // where it is, less sinkTolerance; otherwise it would be free to go down once under the floor.
+          const Vec3& x = m_tree.shell().positions[static_cast<std::size_t>(c.point)];
+          const Vec3 p0 = start * x;
+          const Vec3 p1 = end * x;
+          sink.sigma = std::min(m_field.distance(p0), m_settings.slideFloor) - m_settings.sinkTolerance;
+          m_field.intersectSegment(p0, p1, sink, m_segment);
+          ++out.segmentQueries;
+          if (m_segment.state == SegmentState::Hit) fraction = std::min(fraction, m_segment.fraction);
+        }
+      }
     }
     return std::clamp(fraction, 0.0, 1.0);
   }
@@ -278,6 +324,7 @@ class GodObject {
   ContactQpSolver m_qp;
   ContactQpResult m_qpResult;
   RigidCcdResult m_ccd;
+  SegmentCcdResult m_segment;
 };
 
 }  // namespace sdfccd::haptics

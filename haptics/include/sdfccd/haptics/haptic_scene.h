@@ -7,7 +7,7 @@
 /// renderers, in the scene's own units (metres in the shipped scenes). Contact tolerances are written in
 /// voxels ("cells") in the file and converted with the field's spacing.
 ///
-/// Static objects are built on the grid from exact box and y-axis cylinder signed distances combined by CSG:
+/// Static objects come from a mesh file (buildSdf, exact distances) or are built on the grid from exact box and y-axis cylinder signed distances combined by CSG:
 /// phi = max(min_i solid_i, -min_j hole_j). Its zero level set is the exact boundary, and near flat walls the
 /// values are the exact distances, so a field offset of 0.1 voxel ("fieldOffsetCells", field values minus
 /// 0.1 * spacing: the paper's shrunk hole) is exactly 0.1 voxel; a closed cavity (the stuck case of Fig. 13)
@@ -17,6 +17,7 @@
 /// File format: see assets/scenes/haptics/README.md.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -93,8 +94,12 @@ struct HapticScene {
 /// sdfccd::Error on points < 1.
 void resampleSceneShell(HapticScene& scene, int points);
 
-/// Loads a scene file. Throws sdfccd::Error (one line naming the file and the key) on a missing file,
-/// bad JSON, missing or absurd values.
-HapticScene loadHapticScene(const std::string& path);
+/// Reads a mesh file (the core has no mesh reader: tools pass sdfccd::io's loadMesh).
+using MeshLoader = std::function<TriangleMesh(const std::string& path)>;
+
+/// Loads a scene file. Mesh paths in it are relative to the scene file's folder and need `meshLoader`.
+/// Throws sdfccd::Error (one line naming the file and the key) on a missing file, bad JSON, missing or
+/// absurd values, or a mesh scene without a loader.
+HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoader = {});
 
 }  // namespace sdfccd::haptics
