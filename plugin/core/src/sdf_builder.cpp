@@ -186,16 +186,14 @@ struct TriangleRecords {
   std::size_t bytes() const { return data.capacity() * sizeof(float); }
 };
 
-// Float screen buffers of one closestInList() call (grown on demand, reused).
+// Float screen buffers of one closestInList() call: survivor indices, and the survivors' triangles in SoA
+// batches of kBatch lanes at fixed offsets (so the gather's stores need no per-field pointer).
+constexpr std::size_t kBatch = 256;
 struct ScreenBuffers {
-  std::vector<float> ax, ay, az, bx, by, bz, cx, cy, cz, nx, ny, nz, invAB, invBC, invCA, d2;
   std::vector<int> position;
+  alignas(32) float lane[16][kBatch];  // fields as in TriangleRecords, then the estimates (lane[15])
   void reserve(std::size_t n) {
-    if (position.size() >= n) return;
-    for (auto* v : {&ax, &ay, &az, &bx, &by, &bz, &cx, &cy, &cz, &nx, &ny, &nz, &invAB, &invBC, &invCA, &d2}) {
-      v->resize(2 * n);
-    }
-    position.resize(2 * n);
+    if (position.size() < n) position.resize(2 * n);
   }
 };
 
@@ -269,13 +267,14 @@ SDFCCD_INLINE Vec8f segmentDistance2(Vec8f px, Vec8f py, Vec8f pz, Vec8f ux, Vec
 // true squared distance plus float rounding: the squared plane distance when the projection may fall
 // inside the triangle (the test is loosened by `tolerance`; the plane distance never exceeds the true
 // one), otherwise the smallest squared distance to the three edges (the true one). Branch-free.
-SDFCCD_INLINE void screenSurvivors(ScreenBuffers& b, std::size_t count, float pxs, float pys, float pzs, float tolerance) {
+SDFCCD_INLINE void screenSurvivors(ScreenBuffers& b, std::size_t count, float pxs, float pys, float pzs,
+                                   float tolerance) {
   const Vec8f px = splat8(pxs), py = splat8(pys), pz = splat8(pzs), tol = splat8(-tolerance);
   for (std::size_t m = 0; m < count; m += 8) {
-    const Vec8f ax = load8(&b.ax[m]), ay = load8(&b.ay[m]), az = load8(&b.az[m]);
-    const Vec8f bx = load8(&b.bx[m]), by = load8(&b.by[m]), bz = load8(&b.bz[m]);
-    const Vec8f cx = load8(&b.cx[m]), cy = load8(&b.cy[m]), cz = load8(&b.cz[m]);
-    const Vec8f nx = load8(&b.nx[m]), ny = load8(&b.ny[m]), nz = load8(&b.nz[m]);
+    const Vec8f ax = load8(&b.lane[0][m]), ay = load8(&b.lane[1][m]), az = load8(&b.lane[2][m]);
+    const Vec8f bx = load8(&b.lane[3][m]), by = load8(&b.lane[4][m]), bz = load8(&b.lane[5][m]);
+    const Vec8f cx = load8(&b.lane[6][m]), cy = load8(&b.lane[7][m]), cz = load8(&b.lane[8][m]);
+    const Vec8f nx = load8(&b.lane[9][m]), ny = load8(&b.lane[10][m]), nz = load8(&b.lane[11][m]);
     const Vec8f apx = px - ax, apy = py - ay, apz = pz - az;
     const Vec8f bpx = px - bx, bpy = py - by, bpz = pz - bz;
     const Vec8f cpx = px - cx, cpy = py - cy, cpz = pz - cz;
@@ -287,12 +286,12 @@ SDFCCD_INLINE void screenSurvivors(ScreenBuffers& b, std::size_t count, float px
     const Vec8f sb = nx * (bcy * bpz - bcz * bpy) + ny * (bcz * bpx - bcx * bpz) + nz * (bcx * bpy - bcy * bpx);
     const Vec8f sc = nx * (cay * cpz - caz * cpy) + ny * (caz * cpx - cax * cpz) + nz * (cax * cpy - cay * cpx);
     const Vec8f plane = nx * apx + ny * apy + nz * apz;
-    const Vec8f eAB = segmentDistance2(px, py, pz, ax, ay, az, bx, by, bz, load8(&b.invAB[m]));
-    const Vec8f eBC = segmentDistance2(px, py, pz, bx, by, bz, cx, cy, cz, load8(&b.invBC[m]));
-    const Vec8f eCA = segmentDistance2(px, py, pz, cx, cy, cz, ax, ay, az, load8(&b.invCA[m]));
+    const Vec8f eAB = segmentDistance2(px, py, pz, ax, ay, az, bx, by, bz, load8(&b.lane[12][m]));
+    const Vec8f eBC = segmentDistance2(px, py, pz, bx, by, bz, cx, cy, cz, load8(&b.lane[13][m]));
+    const Vec8f eCA = segmentDistance2(px, py, pz, cx, cy, cz, ax, ay, az, load8(&b.lane[14][m]));
     const Vec8f edges = min8(min8(eAB, eBC), eCA);
     const Vec8f smallest = min8(min8(sa, sb), sc);
-    store8(&b.d2[m], smallest >= tol ? min8(plane * plane, edges) : edges);
+    store8(&b.lane[15][m], smallest >= tol ? min8(plane * plane, edges) : edges);
   }
 }
 
@@ -323,25 +322,10 @@ SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const 
     }
   }
   if (count == 0) return;
-  // Stage 2: gather the survivors' float triangles (padding lanes repeat the first) and screen them.
   const std::size_t lanes = (count + 7) / 8 * 8;
-  for (std::size_t m = count; m < lanes; ++m) survivor[m] = survivor[0];
-  float* const out[15] = {b.ax.data(), b.ay.data(), b.az.data(), b.bx.data(), b.by.data(), b.bz.data(),
-                          b.cx.data(), b.cy.data(), b.cz.data(), b.nx.data(), b.ny.data(), b.nz.data(),
-                          b.invAB.data(), b.invBC.data(), b.invCA.data()};
-  for (std::size_t m = 0; m < lanes; ++m) {
-    const float* record = records + static_cast<std::size_t>(survivor[m]) * TriangleRecords::kFields;
-    for (int f = 0; f < 15; ++f) out[f][m] = record[f];
-  }
-  screenSurvivors(b, lanes, px, py, pz, ctx.areaTolerance);
-  // Stage 3: exact distances, the smallest estimate first (usually the answer; it tightens the limit),
-  // then every other survivor whose estimate is still within the limit.
-  const float* estimate = b.d2.data();
-  std::size_t first = 0;
-  for (std::size_t m = 1; m < count; ++m) first = estimate[m] < estimate[first] ? m : first;
+  for (std::size_t m = count; m < lanes; ++m) survivor[m] = survivor[0];  // padding lanes repeat the first
   float limit = threshold;
-  auto test = [&](std::size_t m) {
-    const int q = survivor[m];
+  auto test = [&](int q) {
     if (q == ioPosition) return;
     const double e2 = bvh.squaredDistance(p, q);
     if (e2 < ioBest2) {
@@ -351,9 +335,27 @@ SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const 
       limit = f * f;
     }
   };
-  if (estimate[first] <= limit) test(first);
-  for (std::size_t m = 0; m < count; ++m) {
-    if (m != first && estimate[m] <= limit) test(m);
+  for (std::size_t start = 0; start < lanes; start += kBatch) {
+    // Stage 2: gather the survivors' float triangles into SoA lanes and screen them.
+    const std::size_t batch = std::min(kBatch, lanes - start);
+    for (std::size_t m = 0; m < batch; ++m) {
+      const float* r = records + static_cast<std::size_t>(survivor[start + m]) * TriangleRecords::kFields;
+      b.lane[0][m] = r[0], b.lane[1][m] = r[1], b.lane[2][m] = r[2], b.lane[3][m] = r[3], b.lane[4][m] = r[4];
+      b.lane[5][m] = r[5], b.lane[6][m] = r[6], b.lane[7][m] = r[7], b.lane[8][m] = r[8], b.lane[9][m] = r[9];
+      b.lane[10][m] = r[10], b.lane[11][m] = r[11], b.lane[12][m] = r[12], b.lane[13][m] = r[13];
+      b.lane[14][m] = r[14];
+    }
+    screenSurvivors(b, batch, px, py, pz, ctx.areaTolerance);
+    // Stage 3: exact distances, the smallest estimate first (usually the answer; it tightens the limit),
+    // then every other survivor whose estimate is still within the limit.
+    const float* estimate = b.lane[15];
+    const std::size_t real = std::min(batch, count - start);
+    std::size_t first = 0;
+    for (std::size_t m = 1; m < real; ++m) first = estimate[m] < estimate[first] ? m : first;
+    if (estimate[first] <= limit) test(survivor[start + first]);
+    for (std::size_t m = 0; m < real; ++m) {
+      if (m != first && estimate[m] <= limit) test(survivor[start + m]);
+    }
   }
 }
 
@@ -606,7 +608,7 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
   std::size_t candidateTotal = 0;
   for (const Scratch& s : scratch) {
     candidateTotal += s.candidateTotal;
-    scratchBytes += s.bvhCandidates.capacity() * sizeof(int) + s.screen.position.capacity() * 17 * sizeof(float);
+    scratchBytes += s.bvhCandidates.capacity() * sizeof(int) + s.screen.position.capacity() * sizeof(int) + sizeof(ScreenBuffers);
     for (const CandidateList& l : s.level) scratchBytes += l.bytes();
   }
   stats.meanCandidates = static_cast<double>(candidateTotal) / static_cast<double>(std::max<std::size_t>(blocks.size(), 1));
