@@ -241,6 +241,12 @@ SDFCCD_INLINE Vec8f max8(Vec8f a, Vec8f b) { return a > b ? a : b; }
 SDFCCD_INLINE Vec8f min8(Vec8f a, Vec8f b) { return a < b ? a : b; }
 SDFCCD_INLINE Vec8f splat8(float x) { return Vec8f{x, x, x, x, x, x, x, x}; }
 SDFCCD_INLINE float maxf(float a, float b) { return a > b ? a : b; }
+typedef int Vec8i __attribute__((vector_size(32)));
+// True when any of the 2 x 8 squared bounds is <= limit: lets chunk loops skip their scalar compaction.
+SDFCCD_INLINE bool anyAtMost(const float* d2, float limit) {
+  const Vec8i m = (load8(d2) <= splat8(limit)) | (load8(d2 + 8) <= splat8(limit));
+  return (m[0] | m[1] | m[2] | m[3] | m[4] | m[5] | m[6] | m[7]) != 0;
+}
 
 // Squared lower bounds (float) from point (px, py, pz) to the boxes of chunk [c, c + kChunk).
 SDFCCD_INLINE void chunkPointBox(const CandidateList& l, std::size_t c, float px, float py, float pz, float* d2) {
@@ -316,6 +322,7 @@ SDFCCD_HOT void closestInList(const Context& ctx, const CandidateList& l, const 
   for (std::size_t c = 0; c < padded; c += kChunk) {
     float d2[kChunk];
     chunkPointBox(l, c, px, py, pz, d2);
+    if (!anyAtMost(d2, threshold)) continue;
     for (int m = 0; m < kChunk; ++m) {
       survivor[count] = position[c + m];
       count += d2[m] <= threshold ? 1 : 0;
@@ -387,6 +394,7 @@ SDFCCD_HOT void filterList(const Context& ctx, const CandidateList& parent, cons
       const Vec8f gz = max8(max8(load8(&parent.loz[e]) - qhz, qlz - load8(&parent.hiz[e])), zero);
       store8(d2 + m, gx * gx + gy * gy + gz * gz);
     }
+    if (!anyAtMost(d2, b2)) continue;
     // Branch-free compaction: every entry is written, only the passing ones advance the count.
     for (int m = 0; m < kChunk; ++m) {
       const std::size_t e = c + m;
