@@ -107,5 +107,31 @@ TEST(GodObject, StopsAtFirstContactWhenThrownAtTheGround) {
   EXPECT_LT(minDistance(tree, ground, discrete.pose()), -0.1);
 }
 
+
+TEST(GodObject, SlidingAndTwistingOverASphereNeverSinks) {
+  // Large rotations per cycle (0.05 rad) while pressed onto a curved surface: the constraints are linear in
+  // the motion, the points' paths are chords; the god-object must still turn, slide and keep phi >= 0.
+  // (The drift this guards against showed on the dragon-over-bunny scene, which needs a mesh reader.)
+  const PointTree tree = boxTree(Vec3(0.01, 0.004, 0.01), 800);
+  const SphereField ball(Vec3::Zero(), 0.05);
+  GodObjectSettings s = planeSettings();
+  s.maxStepTranslation = 1e-3;
+  s.maxStepRotation = 0.05;
+  GodObject<SphereField> god(tree, ball, Rigid::Identity(), at(Vec3(0, 0.05 + 0.004 + 1e-5, 0)), s);
+  double lowest = 1e300;
+  for (int cycle = 0; cycle < 600; ++cycle) {
+    const double u = std::min(1.0, cycle / 500.0);
+    Rigid device = Rigid::Identity();
+    device.linear() = rotationFromVector(Vec3(0.0, 2.5 * u, 0.0));  // twist about the contact normal
+    device.translation() = Vec3(0.01 * u, 0.05, 0.0);  // pressed into the ball, dragged
+    const GodObjectStepResult r = god.step(device);
+    ASSERT_NE(r.qpState, ContactQpState::Failed);
+    for (const Vec3& x : tree.shell().positions) lowest = std::min(lowest, ball.distance(god.pose() * x));
+  }
+  EXPECT_GE(lowest, 0.0);
+  EXPECT_GT(god.pose().translation().x(), 0.005);  // it did slide over the ball
+  EXPECT_GT(Eigen::AngleAxisd(god.pose().linear()).angle(), 1.0);  // and turned
+}
+
 }  // namespace
 }  // namespace sdfccd::haptics
