@@ -27,12 +27,21 @@ SegmentCcdSettings settingsOf(double sigma, CcdMode mode, CcdMethod method = Ccd
   return s;
 }
 
-// Checks one segment in every octree mode and both query modes: brute force, and FirstHit == AllIntervals.
+// Checks one segment: the default (full octree) against brute force, the other octree modes bit-identical to
+// it, and FirstHit == AllIntervals.
 void checkSegment(const GridField& field, const Vec3& p0, const Vec3& p1, double sigma, int samples = 20000,
                   double tolPhi = 1e-7) {
+  const SegmentCcdResult full =
+      field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, OctreeMode::Full));
+  ASSERT_TRUE(matchesBruteForce(field.grid(), p0, p1, sigma, full, samples, tolPhi)) << describe(p0, p1, sigma);
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
     const SegmentCcdResult all = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, octree));
-    ASSERT_TRUE(matchesBruteForce(field.grid(), p0, p1, sigma, all, samples, tolPhi)) << describe(p0, p1, sigma);
+    ASSERT_EQ(all.state, full.state) << describe(p0, p1, sigma);
+    ASSERT_EQ(all.intervals.size(), full.intervals.size()) << describe(p0, p1, sigma);
+    for (std::size_t k = 0; k < all.intervals.size(); ++k) {
+      ASSERT_EQ(all.intervals[k].begin, full.intervals[k].begin);
+      ASSERT_EQ(all.intervals[k].end, full.intervals[k].end);
+    }
     const SegmentCcdResult first = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::FirstHit, CcdMethod::Exact, octree));
     ASSERT_EQ(first.state, all.state) << describe(p0, p1, sigma);
     ASSERT_EQ(first.fraction, all.fraction) << describe(p0, p1, sigma);
