@@ -5,6 +5,15 @@
 /// never stored on disk. GridField is immutable after construction and safe to query from many threads.
 /// PlaneField and SphereField (analytic_fields.h) offer the same member functions, so code that takes a
 /// field is a template over its type.
+///
+/// intersectSegment works in grid-index coordinates relative to the origin: it clips the segment to the box,
+/// walks the cells with a 3D DDA (grid_walk.h) and, per cell, finds every sub-interval where the cubic of
+/// the trilinear interpolant along the segment is <= sigma (cell_cubic.h, cubic_roots.h) or runs eq. (2)
+/// (bisection). Octree modes: Off solves every cell on the path; Leaves skips a cell whose eight corners all
+/// exceed sigma; Full first looks for the largest min-pyramid block around the cell whose minimum exceeds
+/// sigma and jumps to the segment's exit from it, then tests the cell like Leaves. All three return
+/// bit-identical results. The hot loop is a template over method, mode and octree mode (src/segment_walk.h)
+/// and allocates nothing unless a segment has more than IntervalList::kInline intervals.
 #pragma once
 
 #include <memory>
