@@ -88,9 +88,9 @@ int runBenchSdf(const BenchSdfOptions& o) {
                 paperSeconds, cpuSeconds, mb, paperMb, extra, load.c_str(), toString(r.stats.signMethod));
     std::fflush(stdout);
     if (csv) {
-      csv << row.resolution << ',' << n.x() << ',' << n.y() << ',' << n.z() << ',' << threads << ','
-          << r.stats.seconds << ',' << row.seconds << ',' << cpuSeconds << ',' << mb << ',' << row.megabytes << ','
-          << extra << ',' << load << ',' << toString(r.stats.signMethod) << ',' << r.stats.meanCandidates << ",\"" << machineDescription()
+      csv << row.resolution << ',' << n.x() << ',' << n.y() << ',' << n.z() << ',' << threads << ',' << r.stats.seconds
+          << ',' << row.seconds << ',' << cpuSeconds << ',' << mb << ',' << row.megabytes << ',' << extra << ',' << load
+          << ',' << toString(r.stats.signMethod) << ',' << r.stats.meanCandidates << ",\"" << machineDescription()
           << "\"\n";
     }
   }

@@ -43,7 +43,8 @@ int runBuildSdf(const BuildSdfOptions& o) {
   double maxMemoryMiB = o.maxMemoryMiB;
   if (maxMemoryMiB == 0.0) {
     // Half the machine's memory: the grid values plus the builder's temporaries must fit comfortably.
-    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
+    const double physical =
+        static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
     maxMemoryMiB = physical > 0.0 ? std::min(0.5 * physical / (1024.0 * 1024.0), 65536.0) : 4096.0;
   }
   const SdfFileFormat format = o.format.empty() ? sdfFileFormatForPath(o.output) : parseSdfFileFormat(o.format);
@@ -99,7 +100,8 @@ const CommandRegistrar registrar("build-sdf", [](CLI::App& app) {
   cmd->add_option("-t,--threads", o->threads, "Worker threads (0 = all)");
   cmd->add_option("--format", o->format, "Output format: native or sdfgen (default: from the extension)");
   cmd->add_option("--sign", o->sign, "Sign method: automatic, pseudonormal or winding-number");
-  cmd->add_option("--max-memory", o->maxMemoryMiB, "Refuse grids over this many MiB (default: half the physical memory)");
+  cmd->add_option("--max-memory", o->maxMemoryMiB,
+                  "Refuse grids over this many MiB (default: half the physical memory)");
   return std::function<int()>([o]() { return runBuildSdf(*o); });
 });
 

@@ -1,5 +1,7 @@
 /// @file
 /// @brief buildSdf against analytic and brute-force distances at every node (Section 5, Table 1 fields).
+#include "sdfccd/sdf_builder.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,15 +9,18 @@
 
 #include "sdf_test_meshes.h"
 #include "sdfccd/error.h"
-#include "sdfccd/sdf_builder.h"
 
 namespace sdfccd {
 namespace {
 
-Vec3 nodePosition(const SdfGrid& g, int i, int j, int k) { return g.origin() + g.spacing() * Vec3(i, j, k); }
+Vec3 nodePosition(const SdfGrid& g, int i, int j, int k) {
+  return g.origin() + g.spacing() * Vec3(i, j, k);
+}
 
 // Float storage of a double: agreement "to float rounding".
-double floatTolerance(double reference) { return 2e-7 * std::max(1.0, std::fabs(reference)) + 1e-12; }
+double floatTolerance(double reference) {
+  return 2e-7 * std::max(1.0, std::fabs(reference)) + 1e-12;
+}
 
 template <class F>
 void forEachNode(const SdfGrid& g, F&& f) {
@@ -82,8 +87,8 @@ TEST(SdfBuilder, IcosphereMatchesBruteForceAndTheSphere) {
   // Tessellation error: the faces lie between the inscribed radius and the sphere.
   double inscribed = radius;
   for (const auto& t : mesh.triangles) {
-    inscribed = std::min(inscribed, test::triangleDistance(Vec3::Zero(), mesh.vertices[t[0]], mesh.vertices[t[1]],
-                                                           mesh.vertices[t[2]]));
+    inscribed = std::min(
+        inscribed, test::triangleDistance(Vec3::Zero(), mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
   }
   const double tessellation = radius - inscribed;
   forEachNode(g, [&](int, int, int, const Vec3& p, float v) {
@@ -104,8 +109,8 @@ TEST(SdfBuilder, FastBuilderAgreesWithBruteForceOnARealMesh) {
   const TriangleMesh mesh = test::readOff(std::string(SDFCCD_ASSETS_DIR) + "/meshes/knot1.off");
   ASSERT_TRUE(isClosedAndOriented(mesh));
   SdfBuildSettings settings;
-  settings.resolution = 14;
-  settings.padding = 2;
+  settings.resolution = 10;
+  settings.padding = 1;
   const SdfBuildResult built3 = buildSdf(mesh, settings);
   const SdfGrid& g = *built3.grid;
   settings.signMethod = SdfSignMethod::WindingNumber;
@@ -157,12 +162,12 @@ TEST(SdfBuilder, FlippedFacesAreRepairedBeforeBuilding) {
 TEST(SdfBuilder, MeshWithAHoleGetsASensibleSign) {
   // A sphere with the triangles around one pole removed: open, so the winding number decides.
   const double radius = 1.0;
-  TriangleMesh mesh = test::icosphereMesh(radius, 3);
+  TriangleMesh mesh = test::icosphereMesh(radius, 2);
   const Vec3 pole = Vec3(0.0, 1.0, 0.0);
   std::vector<std::array<int, 3>> kept;
   for (const auto& t : mesh.triangles) {
     const Vec3 centroid = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
-    if (centroid.normalized().dot(pole) < 0.97) kept.push_back(t);
+    if (centroid.normalized().dot(pole) < 0.95) kept.push_back(t);
   }
   ASSERT_LT(kept.size(), mesh.triangles.size());
   mesh.triangles = kept;

@@ -1,5 +1,7 @@
 /// @file
 /// @brief Native and SDFGen SDF files: round trips, format details, and rejection of every kind of bad file.
+#include "sdfccd/sdf_file.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,7 +15,6 @@
 #include <sstream>
 
 #include "sdfccd/error.h"
-#include "sdfccd/sdf_file.h"
 
 namespace sdfccd {
 namespace {
@@ -23,7 +24,8 @@ SdfGrid sampleGrid() {
   std::vector<float> v;
   for (int k = 0; k < n.z(); ++k)
     for (int j = 0; j < n.y(); ++j)
-      for (int i = 0; i < n.x(); ++i) v.push_back(static_cast<float>(std::sin(i + 2.1 * j - 0.7 * k) * 0.37 + 1e-7 * i));
+      for (int i = 0; i < n.x(); ++i)
+        v.push_back(static_cast<float>(std::sin(i + 2.1 * j - 0.7 * k) * 0.37 + 1e-7 * i));
   v[7] = -0.0f;
   v[8] = 1.17549435e-38f;  // smallest normal float survives text round trips too
   return SdfGrid(n, Vec3(-0.125, 1.0 / 3.0, 2.5e-3), 0.1 + 1e-12, std::move(v));
@@ -55,7 +57,9 @@ void putDouble(std::string& s, std::size_t at, double d) {
   putLe(s, at, bits, 8);
 }
 // Recomputes the trailing checksum after editing a native file.
-void reseal(std::string& s) { putLe(s, s.size() - 8, fnv1a(s.substr(0, s.size() - 8)), 8); }
+void reseal(std::string& s) {
+  putLe(s, s.size() - 8, fnv1a(s.substr(0, s.size() - 8)), 8);
+}
 
 void expectRejected(const std::string& bytes, const std::string& what) {
   try {
@@ -85,7 +89,8 @@ TEST(SdfFile, NativeRoundTripIsExactAndLittleEndian) {
   std::memcpy(&spacing, bytes.data() + 56, 8);  // this test host is little-endian (x86-64 / arm64)
   EXPECT_EQ(spacing, grid.spacing());
   std::uint64_t stored = 0;
-  for (int b = 0; b < 8; ++b) stored |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[bytes.size() - 8 + b])) << (8 * b);
+  for (int b = 0; b < 8; ++b)
+    stored |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[bytes.size() - 8 + b])) << (8 * b);
   EXPECT_EQ(stored, fnv1a(bytes.substr(0, bytes.size() - 8)));
   expectSame(parseSdf(bytes, "mem"), grid);
 }
@@ -174,7 +179,11 @@ TEST(SdfFile, RejectsCorruptNativeFiles) {
   expectRejected(forged([](std::string& s) { putLe(s, 8, 2, 4); }), "version 2");
   expectRejected(forged([](std::string& s) { putLe(s, 12, 7, 4); }), "value type");
   expectRejected(forged([](std::string& s) { putLe(s, 16, 0xffffffffu, 4); }), "huge ni");
-  expectRejected(forged([](std::string& s) { putLe(s, 20, 60000, 4); putLe(s, 24, 60000, 4); }), "size lie");
+  expectRejected(forged([](std::string& s) {
+                   putLe(s, 20, 60000, 4);
+                   putLe(s, 24, 60000, 4);
+                 }),
+                 "size lie");
   expectRejected(forged([](std::string& s) { putLe(s, 16, 1, 4); }), "ni = 1");
   expectRejected(forged([](std::string& s) { putDouble(s, 56, 0.0); }), "zero spacing");
   expectRejected(forged([](std::string& s) { putDouble(s, 56, -0.1); }), "negative spacing");
@@ -211,7 +220,7 @@ TEST(SdfFile, RejectsRandomBytesWithoutCrashing) {
     std::string bytes(static_cast<std::size_t>(rng() % 400), '\0');
     for (char& c : bytes) c = static_cast<char>(rng());
     if (trial % 3 == 0 && bytes.size() >= 8) std::memcpy(bytes.data(), good.data(), 8);  // valid magic
-    if (trial % 3 == 1) bytes = "3 3 3\n" + bytes;                                         // text header
+    if (trial % 3 == 1) bytes = "3 3 3\n" + bytes;                                       // text header
     expectRejected(bytes, "random bytes " + std::to_string(trial));
   }
 }

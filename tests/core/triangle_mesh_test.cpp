@@ -1,12 +1,13 @@
 /// @file
 /// @brief TriangleMesh measures and repairMesh: exact repair counts on constructed inputs.
+#include "sdfccd/triangle_mesh.h"
+
 #include <gtest/gtest.h>
 
 #include <limits>
 
 #include "sdf_test_meshes.h"
 #include "sdfccd/error.h"
-#include "sdfccd/triangle_mesh.h"
 
 namespace sdfccd {
 namespace {
@@ -78,10 +79,10 @@ TEST(RepairMesh, DropsDegenerateAndDuplicateFacesAndUnreferencedVertices) {
   m.vertices.push_back(Vec3(2, 0, 0));
   m.vertices.push_back(Vec3(3, 0, 0));
   m.vertices.push_back(Vec3(4, 0, 0));
-  m.triangles.push_back({8, 9, 10});  // collinear: zero area
-  m.triangles.push_back(m.triangles[0]);                                          // exact duplicate
+  m.triangles.push_back({8, 9, 10});                                                 // collinear: zero area
+  m.triangles.push_back(m.triangles[0]);                                             // exact duplicate
   m.triangles.push_back({m.triangles[1][0], m.triangles[1][2], m.triangles[1][1]});  // duplicate, flipped
-  m.vertices.push_back(Vec3(7, 7, 7));  // used by nothing
+  m.vertices.push_back(Vec3(7, 7, 7));                                               // used by nothing
   const MeshRepairReport r = repairMesh(m);
   EXPECT_EQ(r.droppedDegenerate, 2);
   EXPECT_EQ(r.droppedDuplicates, 2);

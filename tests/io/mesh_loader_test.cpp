@@ -1,5 +1,7 @@
 /// @file
 /// @brief loadMesh through assimp: OBJ, OFF, PLY and STL written by the test, repairs, and bad files.
+#include "sdfccd/io/mesh_loader.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -8,7 +10,6 @@
 #include <string>
 
 #include "sdfccd/error.h"
-#include "sdfccd/io/mesh_loader.h"
 
 namespace sdfccd {
 namespace {
@@ -25,26 +26,33 @@ const int kQuads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}
 
 std::string cubeObj() {
   std::string s = "# cube with quads\no cube\n";
-  for (const auto& c : kCorner) s += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (const auto& q : kQuads) s += "f " + std::to_string(q[0] + 1) + " " + std::to_string(q[1] + 1) + " " +
-                                    std::to_string(q[2] + 1) + " " + std::to_string(q[3] + 1) + "\n";
+  for (const auto& c : kCorner)
+    s += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (const auto& q : kQuads)
+    s += "f " + std::to_string(q[0] + 1) + " " + std::to_string(q[1] + 1) + " " + std::to_string(q[2] + 1) + " " +
+         std::to_string(q[3] + 1) + "\n";
   return s;
 }
 
 std::string cubeOff() {
   std::string s = "OFF\n8 6 0\n";
-  for (const auto& c : kCorner) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (const auto& q : kQuads) s += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
-                                    std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+  for (const auto& c : kCorner)
+    s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (const auto& q : kQuads)
+    s += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+         std::to_string(q[3]) + "\n";
   return s;
 }
 
 std::string cubePly() {
-  std::string s = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
-                  "element face 6\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& c : kCorner) s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (const auto& q : kQuads) s += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
-                                    std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+  std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 6\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& c : kCorner)
+    s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (const auto& q : kQuads)
+    s += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+         std::to_string(q[3]) + "\n";
   return s;
 }
 
@@ -92,9 +100,11 @@ TEST(MeshLoader, MergesObjectsAndAppliesRepairs) {
   // plus a degenerate face (a repeated corner).
   std::string s = cubeObj();
   s += "o second\n";
-  for (const auto& c : kCorner) s += "v " + std::to_string(c[0] + 3) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (const auto& q : kQuads) s += "f " + std::to_string(q[3] + 9) + " " + std::to_string(q[2] + 9) + " " +
-                                    std::to_string(q[1] + 9) + " " + std::to_string(q[0] + 9) + "\n";
+  for (const auto& c : kCorner)
+    s += "v " + std::to_string(c[0] + 3) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  for (const auto& q : kQuads)
+    s += "f " + std::to_string(q[3] + 9) + " " + std::to_string(q[2] + 9) + " " + std::to_string(q[1] + 9) + " " +
+         std::to_string(q[0] + 9) + "\n";
   s += "f 1 2 2\n";
   const std::string path = tempFile("two.obj", s);
   MeshRepairReport report;
@@ -120,8 +130,8 @@ TEST(MeshLoader, BadFilesGiveOneLineErrorsNamingTheFile) {
   const std::string garbage = tempFile("garbage.stl", std::string("\x01\x02 this is not a mesh \xff\xfe", 24));
   const std::string points = tempFile("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   const std::string nan = tempFile("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
-  for (const std::string& path : {std::string("/nonexistent/mesh.obj"), empty, garbage, points, nan,
-                                  ::testing::TempDir()}) {
+  for (const std::string& path :
+       {std::string("/nonexistent/mesh.obj"), empty, garbage, points, nan, ::testing::TempDir()}) {
     SCOPED_TRACE(path);
     try {
       loadMesh(path);

@@ -15,7 +15,8 @@ MeshPseudonormals::MeshPseudonormals(const TriangleMesh& mesh) : m_triangles(mes
   m_vertex.assign(mesh.vertices.size(), Vec3::Zero());
   for (std::size_t t = 0; t < n; ++t) {
     const auto& tri = mesh.triangles[t];
-    const Vec3 normal = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+    const Vec3 normal =
+        (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
     const double length = normal.norm();
     m_face[t] = length > 0.0 ? Vec3(normal / length) : Vec3::Zero();
     for (int corner = 0; corner < 3; ++corner) {
@@ -39,7 +40,8 @@ MeshPseudonormals::MeshPseudonormals(const TriangleMesh& mesh) : m_triangles(mes
     for (int e = 0; e < 3; ++e) {
       const auto a = static_cast<std::uint64_t>(mesh.triangles[t][e]);
       const auto b = static_cast<std::uint64_t>(mesh.triangles[t][(e + 1) % 3]);
-      edges.push_back({std::min(a, b) << 32 | std::max(a, b), static_cast<std::uint32_t>(t), static_cast<std::uint8_t>(e)});
+      edges.push_back(
+          {std::min(a, b) << 32 | std::max(a, b), static_cast<std::uint32_t>(t), static_cast<std::uint8_t>(e)});
     }
   }
   std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) { return x.key < y.key; });

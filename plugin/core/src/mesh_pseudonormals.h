@@ -23,13 +23,20 @@ class MeshPseudonormals {
   /// The pseudonormal of `feature` of mesh triangle `triangle` (not normalized; only its direction matters).
   const Vec3& normal(int triangle, TriangleFeature feature) const {
     switch (feature) {
-      case TriangleFeature::Face: return m_face[triangle];
-      case TriangleFeature::EdgeAB: return m_edge[triangle][0];
-      case TriangleFeature::EdgeBC: return m_edge[triangle][1];
-      case TriangleFeature::EdgeCA: return m_edge[triangle][2];
-      case TriangleFeature::VertexA: return m_vertex[m_triangles[triangle][0]];
-      case TriangleFeature::VertexB: return m_vertex[m_triangles[triangle][1]];
-      case TriangleFeature::VertexC: return m_vertex[m_triangles[triangle][2]];
+      case TriangleFeature::Face:
+        return m_face[triangle];
+      case TriangleFeature::EdgeAB:
+        return m_edge[triangle][0];
+      case TriangleFeature::EdgeBC:
+        return m_edge[triangle][1];
+      case TriangleFeature::EdgeCA:
+        return m_edge[triangle][2];
+      case TriangleFeature::VertexA:
+        return m_vertex[m_triangles[triangle][0]];
+      case TriangleFeature::VertexB:
+        return m_vertex[m_triangles[triangle][1]];
+      case TriangleFeature::VertexC:
+        return m_vertex[m_triangles[triangle][2]];
     }
     return m_face[triangle];
   }

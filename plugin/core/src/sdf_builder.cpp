@@ -51,9 +51,12 @@ using detail::TriangleFeature;
 
 const char* toString(SdfSignMethod method) {
   switch (method) {
-    case SdfSignMethod::Automatic: return "automatic";
-    case SdfSignMethod::Pseudonormal: return "pseudonormal";
-    case SdfSignMethod::WindingNumber: return "winding-number";
+    case SdfSignMethod::Automatic:
+      return "automatic";
+    case SdfSignMethod::Pseudonormal:
+      return "pseudonormal";
+    case SdfSignMethod::WindingNumber:
+      return "winding-number";
   }
   return "?";
 }
@@ -139,8 +142,8 @@ float roundUp(double v) {
 struct CandidateList {
   std::vector<float> lox, loy, loz, hix, hiy, hiz;
   std::vector<int> position;
-  std::size_t size = 0;     // real entries
-  std::size_t padded = 0;   // entries including the padding
+  std::size_t size = 0;    // real entries
+  std::size_t padded = 0;  // entries including the padding
 
   void reserve(std::size_t n) {
     if (position.size() >= n) return;
@@ -177,8 +180,20 @@ struct TriangleRecords {
       const int i = static_cast<int>(q);
       const Vec3 &a = bvh.a(i), &b = bvh.b(i), &c = bvh.c(i);
       const Vec3 normal = (b - a).cross(c - a).normalized();
-      const double fields[15] = {a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), c.x(), c.y(), c.z(), normal.x(),
-                                 normal.y(), normal.z(), 1.0 / (b - a).squaredNorm(), 1.0 / (c - b).squaredNorm(),
+      const double fields[15] = {a.x(),
+                                 a.y(),
+                                 a.z(),
+                                 b.x(),
+                                 b.y(),
+                                 b.z(),
+                                 c.x(),
+                                 c.y(),
+                                 c.z(),
+                                 normal.x(),
+                                 normal.y(),
+                                 normal.z(),
+                                 1.0 / (b - a).squaredNorm(),
+                                 1.0 / (c - b).squaredNorm(),
                                  1.0 / (a - c).squaredNorm()};
       for (int f = 0; f < 15; ++f) data[q * kFields + f] = static_cast<float>(fields[f]);
     }
@@ -210,8 +225,8 @@ struct Context {
   const TriangleRecords* records;
   const SdfGridLayout* layout;
   const MeshPseudonormals* normals;  // null: leave the distance unsigned (the winding pass signs it)
-  float slack;  // absolute float rounding allowance on lower bounds (model units)
-  float areaTolerance;  // float rounding allowance of the inside test (model units^2)
+  float slack;                       // absolute float rounding allowance on lower bounds (model units)
+  float areaTolerance;               // float rounding allowance of the inside test (model units^2)
 };
 
 // Eight floats processed together: GCC/Clang vector extensions (lowered to AVX where the function is
@@ -221,8 +236,8 @@ struct Context {
 #pragma GCC diagnostic ignored "-Wpsabi"  // Vec8f never crosses a call: every helper is always inlined
 #endif
 typedef float Vec8f __attribute__((vector_size(32)));
-// The two hot functions are compiled twice, for x86-64-v3 (AVX2, FMA) and for the baseline, and the dynamic loader picks
-// one at start-up (GCC function multi-versioning): twice the speed on AVX2 machines, still portable.
+// The two hot functions are compiled twice, for x86-64-v3 (AVX2, FMA) and for the baseline, and the dynamic loader
+// picks one at start-up (GCC function multi-versioning): twice the speed on AVX2 machines, still portable.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__) && \
     !defined(__SANITIZE_THREAD__)
 #define SDFCCD_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
@@ -236,11 +251,21 @@ SDFCCD_INLINE Vec8f load8(const float* p) {
   std::memcpy(&v, p, sizeof(v));
   return v;
 }
-SDFCCD_INLINE void store8(float* p, Vec8f v) { std::memcpy(p, &v, sizeof(v)); }
-SDFCCD_INLINE Vec8f max8(Vec8f a, Vec8f b) { return a > b ? a : b; }
-SDFCCD_INLINE Vec8f min8(Vec8f a, Vec8f b) { return a < b ? a : b; }
-SDFCCD_INLINE Vec8f splat8(float x) { return Vec8f{x, x, x, x, x, x, x, x}; }
-SDFCCD_INLINE float maxf(float a, float b) { return a > b ? a : b; }
+SDFCCD_INLINE void store8(float* p, Vec8f v) {
+  std::memcpy(p, &v, sizeof(v));
+}
+SDFCCD_INLINE Vec8f max8(Vec8f a, Vec8f b) {
+  return a > b ? a : b;
+}
+SDFCCD_INLINE Vec8f min8(Vec8f a, Vec8f b) {
+  return a < b ? a : b;
+}
+SDFCCD_INLINE Vec8f splat8(float x) {
+  return Vec8f{x, x, x, x, x, x, x, x};
+}
+SDFCCD_INLINE float maxf(float a, float b) {
+  return a > b ? a : b;
+}
 typedef int Vec8i __attribute__((vector_size(32)));
 // True when any of the 2 x 8 squared bounds is <= limit: lets chunk loops skip their scalar compaction.
 SDFCCD_INLINE bool anyAtMost(const float* d2, float limit) {
@@ -261,7 +286,7 @@ SDFCCD_INLINE void chunkPointBox(const CandidateList& l, std::size_t c, float px
 
 // Squared distance from (px, py, pz) to segments u + t (v - u), t in [0, 1], eight at once, in float.
 SDFCCD_INLINE Vec8f segmentDistance2(Vec8f px, Vec8f py, Vec8f pz, Vec8f ux, Vec8f uy, Vec8f uz, Vec8f vx, Vec8f vy,
-                              Vec8f vz, Vec8f invLength2) {
+                                     Vec8f vz, Vec8f invLength2) {
   const Vec8f ex = vx - ux, ey = vy - uy, ez = vz - uz;
   const Vec8f wx = px - ux, wy = py - uy, wz = pz - uz;
   const Vec8f t = min8(max8((wx * ex + wy * ey + wz * ez) * invLength2, splat8(0.0f)), splat8(1.0f));
@@ -410,13 +435,14 @@ SDFCCD_HOT void filterList(const Context& ctx, const CandidateList& parent, cons
 
 inline std::size_t nodeIndex(const Vec3i& n, int i, int j, int k) {
   return static_cast<std::size_t>(i) +
-         static_cast<std::size_t>(n.x()) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
+         static_cast<std::size_t>(n.x()) *
+             (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
 }
 
 // The nodes of a leaf box (at most 2 per side): one warm-started closestInList() per node, then the
 // pseudonormal sign when the mesh is closed.
-void leafNodes(const Context& ctx, const Block& box, const CandidateList& list, int warm,
-               Scratch& s, float* outDistance) {
+void leafNodes(const Context& ctx, const Block& box, const CandidateList& list, int warm, Scratch& s,
+               float* outDistance) {
   const TriangleBvh& bvh = *ctx.bvh;
   const SdfGridLayout& layout = *ctx.layout;
   int previous = warm;
@@ -539,7 +565,8 @@ class ProgressReporter {
     std::unique_lock<std::mutex> lock(m_mutex, std::try_to_lock);
     if (!lock.owns_lock()) return;
     // Read the count again under the lock, so reported fractions never decrease.
-    const double fraction = m_begin + (m_end - m_begin) * static_cast<double>(m_done.load()) / static_cast<double>(m_total);
+    const double fraction =
+        m_begin + (m_end - m_begin) * static_cast<double>(m_done.load()) / static_cast<double>(m_total);
     if (fraction <= m_last) return;
     m_last = fraction;
     m_progress(fraction);
@@ -599,7 +626,11 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
   if (!winding) normals = std::make_unique<MeshPseudonormals>(mesh);
   const TriangleRecords records(bvh);
   const double epsilonF = std::numeric_limits<float>::epsilon();
-  Context ctx{&bvh, &records, &layout, normals.get(), static_cast<float>(16.0 * epsilonF * largest),
+  Context ctx{&bvh,
+              &records,
+              &layout,
+              normals.get(),
+              static_cast<float>(16.0 * epsilonF * largest),
               static_cast<float>(128.0 * epsilonF * largest * largest)};
 
   const std::size_t nodeCount = layout.nodeCount();
@@ -616,10 +647,12 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
   std::size_t candidateTotal = 0;
   for (const Scratch& s : scratch) {
     candidateTotal += s.candidateTotal;
-    scratchBytes += s.bvhCandidates.capacity() * sizeof(int) + s.screen.position.capacity() * sizeof(int) + sizeof(ScreenBuffers);
+    scratchBytes +=
+        s.bvhCandidates.capacity() * sizeof(int) + s.screen.position.capacity() * sizeof(int) + sizeof(ScreenBuffers);
     for (const CandidateList& l : s.level) scratchBytes += l.bytes();
   }
-  stats.meanCandidates = static_cast<double>(candidateTotal) / static_cast<double>(std::max<std::size_t>(blocks.size(), 1));
+  stats.meanCandidates =
+      static_cast<double>(candidateTotal) / static_cast<double>(std::max<std::size_t>(blocks.size(), 1));
 
   const auto signStart = std::chrono::steady_clock::now();
   std::size_t signBytes = normals ? normals->memoryBytes() : 0;
@@ -647,8 +680,10 @@ SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settin
       for (int k = block.begin.z(); k < block.end.z(); ++k)
         for (int j = block.begin.y(); j < block.end.y(); ++j)
           for (int i = block.begin.x(); i < block.end.x(); ++i) {
-            const std::size_t index = static_cast<std::size_t>(i) + static_cast<std::size_t>(n.x()) *
-                                      (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
+            const std::size_t index =
+                static_cast<std::size_t>(i) +
+                static_cast<std::size_t>(n.x()) *
+                    (static_cast<std::size_t>(j) + static_cast<std::size_t>(n.y()) * static_cast<std::size_t>(k));
             const bool inside = uniformSign != 0 ? uniformSign < 0 : windingNumber(nodePosition(i, j, k)) >= threshold;
             if (inside) values[index] = -values[index];
           }

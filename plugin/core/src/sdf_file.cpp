@@ -6,6 +6,8 @@
 /// Bytes are assembled explicitly as little-endian, so files are portable whatever the host's byte order.
 #include "sdfccd/sdf_file.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -16,8 +18,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-
-#include <sys/stat.h>
 
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
@@ -161,8 +161,8 @@ SdfGrid parseNative(const std::string& bytes, const std::string& name) {
   const std::uint64_t expected = kHeaderBytes + 4 * nodes + kChecksumBytes;
   if (bytes.size() != expected) {
     std::ostringstream s;
-    s << "size " << bytes.size() << " bytes does not match the header (" << counts.x() << " x " << counts.y()
-      << " x " << counts.z() << " nodes need " << expected << " bytes)";
+    s << "size " << bytes.size() << " bytes does not match the header (" << counts.x() << " x " << counts.y() << " x "
+      << counts.z() << " nodes need " << expected << " bytes)";
     throw fail(s.str());
   }
   const std::uint64_t stored = getU64(data + expected - kChecksumBytes);
@@ -281,7 +281,9 @@ SdfGrid parseSdfGen(const std::string& text, const std::string& name) {
 
 }  // namespace
 
-const char* toString(SdfFileFormat format) { return format == SdfFileFormat::Native ? "native" : "sdfgen"; }
+const char* toString(SdfFileFormat format) {
+  return format == SdfFileFormat::Native ? "native" : "sdfgen";
+}
 
 SdfFileFormat parseSdfFileFormat(const std::string& name) {
   if (name == "native") return SdfFileFormat::Native;

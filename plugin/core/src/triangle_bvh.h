@@ -20,10 +20,10 @@ namespace sdfccd::detail {
 class TriangleBvh {
  public:
   struct Node {
-    Vec3 lo, hi;    ///< box of the subtree's triangles (model units)
-    int start = 0;  ///< first triangle position of the subtree
-    int count = 0;  ///< number of triangle positions of the subtree
-    int right = -1; ///< index of the right child (the left child is this index + 1); -1 for a leaf
+    Vec3 lo, hi;     ///< box of the subtree's triangles (model units)
+    int start = 0;   ///< first triangle position of the subtree
+    int count = 0;   ///< number of triangle positions of the subtree
+    int right = -1;  ///< index of the right child (the left child is this index + 1); -1 for a leaf
   };
 
   explicit TriangleBvh(const TriangleMesh& mesh);

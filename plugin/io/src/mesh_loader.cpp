@@ -4,13 +4,13 @@
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <sys/stat.h>
 
 #include <assimp/Importer.hpp>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
@@ -70,8 +70,8 @@ TriangleMesh loadMesh(const std::string& path, MeshRepairReport* outReport, cons
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // No aiProcess_FixInfacingNormals (a normal-based guess) and no FindDegenerates/FindInvalidData: repairMesh
   // orients by topology and counts what it drops, so the report is honest.
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_RemoveComponent |
-                         aiProcess_SortByPType;
+  const unsigned flags =
+      aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_RemoveComponent | aiProcess_SortByPType;
   const aiScene* scene = importer.ReadFile(path, flags);
   if (scene == nullptr || scene->mRootNode == nullptr) {
     throw Error("cannot read mesh '" + path + "': " + oneLine(importer.GetErrorString()));

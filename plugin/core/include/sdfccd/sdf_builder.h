@@ -45,10 +45,10 @@ struct SdfBuildSettings {
   int padding = 4;       ///< extra cells around the mesh's box on each side (>= 0)
   int threads = 0;       ///< worker threads, 0 = all hardware threads
   SdfSignMethod signMethod = SdfSignMethod::Automatic;
-  double windingThreshold = 0.5;        ///< inside where the winding number is >= this (WindingNumber)
-  double windingAccuracy = 2.0;         ///< Barill et al.'s beta: far-field when distance > beta * cluster radius
+  double windingThreshold = 0.5;  ///< inside where the winding number is >= this (WindingNumber)
+  double windingAccuracy = 2.0;   ///< Barill et al.'s beta: far-field when distance > beta * cluster radius
   std::size_t maxMemoryBytes = std::size_t(16) << 30;  ///< bytes; larger grids are refused before allocating
-  ProgressCallback progress;            ///< called with the fraction done (optional)
+  ProgressCallback progress;                           ///< called with the fraction done (optional)
 };
 
 /// The grid a build will produce, known before any work (lets callers check memory first).
@@ -75,9 +75,9 @@ struct SdfBuildStats {
   std::size_t gridBytes = 0;       ///< bytes of the grid values
   std::size_t peakExtraBytes = 0;  ///< bytes of the temporary structures (BVH, candidates, ...), estimated
   SdfSignMethod signMethod = SdfSignMethod::Automatic;  ///< the method actually used
-  int threads = 0;                 ///< worker threads used
-  std::size_t triangles = 0;       ///< triangles of the mesh
-  double meanCandidates = 0.0;     ///< mean candidate triangles per block (diagnostic)
+  int threads = 0;                                      ///< worker threads used
+  std::size_t triangles = 0;                            ///< triangles of the mesh
+  double meanCandidates = 0.0;                          ///< mean candidate triangles per block (diagnostic)
 };
 
 /// Result of buildSdf.

@@ -33,7 +33,9 @@ SdfGrid loadSdf(const std::string& path);
 /// Writes `grid` atomically. Throws sdfccd::Error on failure (no output file is left behind).
 void saveSdf(const std::string& path, const SdfGrid& grid, SdfFileFormat format);
 /// Writes in the format sdfFileFormatForPath(path) picks.
-inline void saveSdf(const std::string& path, const SdfGrid& grid) { saveSdf(path, grid, sdfFileFormatForPath(path)); }
+inline void saveSdf(const std::string& path, const SdfGrid& grid) {
+  saveSdf(path, grid, sdfFileFormatForPath(path));
+}
 
 /// In-memory forms of the above (tests, pipes). `name` is used in error messages.
 SdfGrid parseSdf(const std::string& bytes, const std::string& name);
