@@ -24,17 +24,13 @@ int runPlot(const PlotOptions& options) {
   settings.outputDir =
       options.outDir.empty() ? (std::filesystem::path(options.runDir) / "plots").string() : options.outDir;
   // Meshes are needed only to compute the kinetic energy when the CSV has no column for it.
-  RunFolder run;
-  std::string meshNote;
-  try {
-    run = readRunFolder(options.runDir, /*loadMeshes=*/true);
-  } catch (const Error& e) {
-    run = readRunFolder(options.runDir, /*loadMeshes=*/false);
-    meshNote = e.what();
-  }
-  if (run.frames.series.count("kinetic_energy") == 0 && !meshNote.empty()) {
-    std::printf("note: no kinetic energy (the CSV has none and the meshes could not be loaded: %s)\n",
-                meshNote.c_str());
+  RunFolder run = readRunFolder(options.runDir, /*loadMeshes=*/false);
+  if (run.frames.series.count("kinetic_energy") == 0) {
+    try {
+      run = readRunFolder(options.runDir, /*loadMeshes=*/true);
+    } catch (const Error& e) {
+      std::printf("note: no kinetic energy (the CSV has none and the meshes could not be loaded: %s)\n", e.what());
+    }
   }
   const RunPlotResult result = writeRunPlots(run.frames, settings);
   for (const std::string& path : result.written) std::printf("plot: %s\n", path.c_str());

@@ -39,6 +39,8 @@ struct RenderOptions {
   bool noFrames = false;
   bool noVideo = false;
   int supersample = 2;
+  bool groundContacts = false;
+  double depthScale = 0.005;  // m
 };
 
 #if SDFCCD_HAS_RENDER
@@ -60,6 +62,24 @@ std::vector<Vec3> runFramingPoints(const RunScene& scene, const RunFrames& frame
     }
   }
   return points;
+}
+
+/// Mesh vertices below the ground, as contacts coloured by depth: a body sunk into the ground shows red.
+std::vector<FramePoints> groundContacts(const RunScene& scene, const std::vector<Rigid>& poses, double depthScale) {
+  FramePoints contacts;
+  contacts.maxDepth = depthScale;
+  if (!scene.groundHeight) return {};
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    for (const Vec3& vertexInBody : scene.bodies[i].mesh->vertices) {
+      const Vec3 vertexInWorld = poses[i] * vertexInBody;
+      const double depth = *scene.groundHeight - vertexInWorld.y();
+      if (depth > 0.0) {
+        contacts.pointsInWorld.push_back(vertexInWorld);
+        contacts.depths.push_back(depth);
+      }
+    }
+  }
+  return {contacts};
 }
 
 /// Writes outDir/frames.mp4 from the frames written, when ffmpeg is on PATH. Returns a one-line note.
@@ -96,6 +116,7 @@ int runRender(const RenderOptions& options) {
   int height = 0;
   parseImageSize(options.size, width, height);
   if (options.every < 0) throw Error("--every must be at least 1");
+  if (!(options.depthScale > 0.0) || !std::isfinite(options.depthScale)) throw Error("--depth-scale must be > 0");
   if (options.sheetCells < 0 || options.thumbWidth < 16 || options.thumbWidth > 4096) {
     throw Error("--sheet-cells must be >= 0 and --thumb-width in 16..4096");
   }
@@ -120,8 +141,10 @@ int runRender(const RenderOptions& options) {
     if (error) throw Error("cannot create the frames folder '" + outDir + "': " + error.message());
     ProgressBar bar("rendering frames");
     for (int i = 0; i < frameCount; i += every) {
-      renderer.renderToFile(frames.worldFromBody[static_cast<std::size_t>(i)],
-                            RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]));
+      const std::vector<Rigid>& poses = frames.worldFromBody[static_cast<std::size_t>(i)];
+      renderer.renderToFile(poses, RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]),
+                            options.groundContacts ? groundContacts(run.scene, poses, options.depthScale)
+                                                   : std::vector<FramePoints>{});
       written.push_back(RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]));
       bar.update(static_cast<double>(i + 1) / frameCount);
     }
@@ -135,8 +158,10 @@ int runRender(const RenderOptions& options) {
                                                                       width)));
     std::vector<render::RgbImage> thumbs;
     for (int index : render::evenlySpacedFrames(frameCount, options.sheetCells)) {
-      thumbs.push_back(renderer.renderImage(frames.worldFromBody[static_cast<std::size_t>(index)], {},
-                                            options.thumbWidth, thumbHeight));
+      const std::vector<Rigid>& poses = frames.worldFromBody[static_cast<std::size_t>(index)];
+      thumbs.push_back(renderer.renderImage(
+          poses, options.groundContacts ? groundContacts(run.scene, poses, options.depthScale) : std::vector<FramePoints>{},
+          options.thumbWidth, thumbHeight));
     }
     const std::string sheetPath = (fs::path(options.runDir) / "contact_sheet.png").string();
     render::writePng(sheetPath, render::makeContactSheet(thumbs));
@@ -172,6 +197,9 @@ const CommandRegistrar registrar("render", [](CLI::App& app) {
   cmd->add_option("--thumb-width", options->thumbWidth, "Width of a contact-sheet frame in pixels (default 320)");
   cmd->add_option("--supersample", options->supersample, "Anti-aliasing factor, 1 = none (default 2)");
   cmd->add_flag("--no-frames", options->noFrames, "Only the contact sheet");
+  cmd->add_flag("--ground-contacts", options->groundContacts,
+                "Mark mesh vertices below the ground, yellow to red by depth (a sunk body shows red)");
+  cmd->add_option("--depth-scale", options->depthScale, "With --ground-contacts: depth drawn fully red (m, 0.005)");
   cmd->add_flag("--no-video", options->noVideo, "No MP4 even when ffmpeg is installed");
   return std::function<int()>([options]() { return runRender(*options); });
 });

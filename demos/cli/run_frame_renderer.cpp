@@ -107,6 +107,7 @@ struct RunFrameRenderer::Impl {
       render::RenderPointSet pointSet;
       pointSet.pointsInWorld = set.pointsInWorld;
       pointSet.depths = set.depths;
+      pointSet.maxDepth = set.maxDepth;
       pointSet.pointSize = 2.0f;
       result.pointSets.push_back(std::move(pointSet));
     }

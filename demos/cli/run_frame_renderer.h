@@ -40,6 +40,7 @@ struct FrameRenderSettings {
 struct FramePoints {
   std::vector<Vec3> pointsInWorld;  ///< (m)
   std::vector<double> depths;       ///< empty, or one penetration depth per point (m)
+  double maxDepth = 0.0;            ///< depth drawn fully red (m); 0 = the largest depth in the set
 };
 
 /// Parses "WIDTHxHEIGHT" (e.g. "1280x720"). Throws sdfccd::Error for anything else or sizes outside 1..8192.

@@ -104,12 +104,13 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
          << "set style line 1 linewidth 1.5\n";
   std::vector<std::pair<std::string, std::string>> renames;  // temporary -> final
   int column = 3;
-  // The penetration's unit follows its column: grid cells or metres.
+  // The penetration's unit follows its column: `penetration_m` is in metres; `penetration` and
+  // `penetration_cells` are in grid cells of the field (what simulate reports, like max_penetration_cells).
   auto yLabel = [&](const PlotSpec* plot) -> std::string {
     if (std::string(plot->series) != "penetration") return plot->yLabel;
     auto source = frames.seriesSource.find("penetration");
-    const bool cells = source != frames.seriesSource.end() && source->second.find("cells") != std::string::npos;
-    return cells ? "penetration (grid cells)" : "penetration (m)";
+    const bool metres = source != frames.seriesSource.end() && source->second.find("_m") != std::string::npos;
+    return metres ? "penetration (m)" : "penetration (grid cells)";
   };
   for (const PlotSpec* plot : present) {
     const std::string finalPath = (fs::path(dir) / plot->file).string();

@@ -13,7 +13,7 @@ fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 # PNG width and height from the IHDR chunk (bytes 16..23, big-endian).
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{printf "%dx%d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'; }
 
-make_run() {  # make_run DIR MESH_PATH
+make_run() {  # make_run DIR MESH_PATH [REST_HEIGHT]
   mkdir -p "$1"
   cat > "$1/scene.json" <<JSON
 { "timestep": 0.01, "frames": 30, "gravity": [0, -9.81, 0], "effects": ["gravity", "ground"],
@@ -22,9 +22,9 @@ make_run() {  # make_run DIR MESH_PATH
   "bodies": [ { "name": "bunny0", "mesh": "$2", "scale": 0.5, "mass": 1.0, "position": [0, 1, 0] },
               { "name": "bunny1", "mesh": "$2", "scale": 0.4, "mass": 1.0, "position": [0.6, 1, 0] } ] }
 JSON
-  awk 'BEGIN { print "frame,time,body,px,py,pz,qw,qx,qy,qz,contacts,penetration,kinetic_energy,ccd_seconds";
-    for (f = 0; f < 30; f++) { t = f * 0.01; y = 1 - 4.9 * t * t; if (y < 0.25) y = 0.25;
-      printf "%d,%.3f,bunny0,0,%.5f,0,1,0,0,0,%d,%.4f,%.4f,%.6f\n", f, t, y, (y <= 0.25) ? 4 : 0, (y <= 0.25) ? 0.001 : 0, 0.5 * (9.8 * t) ^ 2, 0.0002;
+  awk -v rest="${3:-0.25}" 'BEGIN { print "frame,time,body,px,py,pz,qw,qx,qy,qz,contacts,penetration,kinetic_energy,ccd_seconds";
+    for (f = 0; f < 30; f++) { t = f * 0.02; y = 1 - 4.9 * t * t; if (y < rest) y = rest;
+      printf "%d,%.3f,bunny0,0,%.5f,0,1,0,0,0,%d,%.4f,%.4f,%.6f\n", f, t, y, (y <= rest) ? 4 : 0, (y <= rest) ? 0.001 : 0, 0.5 * (9.8 * t) ^ 2, 0.0002;
       printf "%d,%.3f,bunny1,0.6,%.5f,0,0.7071,0,0.7071,0,%d,%.4f,%.4f,%.6f\n", f, t, y, 0, 0, 0.4 * (9.8 * t) ^ 2, 0.0001 } }' \
     > "$1/frames.csv"
 }
@@ -53,6 +53,16 @@ else
   cmp -s "$work/before.png" "$run/frames/frame_00010.png" || fail "re-rendering changed frame 10"
   ls "$run/frames" | grep -q tmp && fail "temporary files left in frames/"
 
+  # Bodies sunk into the ground: --ground-contacts marks the vertices below it, so the last frame changes.
+  sunk="$work/sunk"
+  make_run "$sunk" "$assets/meshes/bunny.off" 0.02
+  "$tool" render "$sunk" --size 160x90 --every 29 --sheet-cells 0 --no-video --out "$sunk/plain" >/dev/null 2>&1 ||
+    fail "render of the sunk run failed"
+  "$tool" render "$sunk" --size 160x90 --every 29 --sheet-cells 0 --no-video --ground-contacts --out "$sunk/marked" \
+    >/dev/null 2>&1 || fail "render --ground-contacts failed"
+  cmp -s "$sunk/plain/frame_00000.png" "$sunk/marked/frame_00000.png" || fail "contacts marked while in the air"
+  cmp -s "$sunk/plain/frame_00029.png" "$sunk/marked/frame_00029.png" && fail "no contacts marked on the sunk bodies"
+
   # Missing mesh: one clear error line, non-zero exit.
   bad="$work/missing_mesh"
   make_run "$bad" "no/such/mesh.off"
@@ -80,8 +90,12 @@ if command -v gnuplot >/dev/null 2>&1; then
     [ "$(png_size "$run/plots/$p.png" 2>/dev/null)" = "320x200" ] || fail "plots/$p.png missing or wrong size"
   done
   [ -f "$run/plots/overview.png" ] || fail "plots/overview.png missing"
-  # series.dat: 30 frames; contacts of frame 29 = 4 (bunny0 resting), penetration = 0.001 (the deepest).
+  # series.dat: one row per frame.
   [ "$(grep -vc '^#' "$run/plots/series.dat")" -eq 30 ] || fail "series.dat does not have 30 rows"
+  # Last frame, bunny0 resting: penetration is the deepest body's (0.001), contacts add up (4 + 0), CCD time
+  # adds up (0.2 + 0.1 ms). Columns: frame time penetration kinetic_energy contacts ccd_seconds(ms).
+  tail -1 "$run/plots/series.dat" | awk '{ d = $6 - 0.3; exit !($1 == 29 && $3 == 0.001 && $5 == 4 && d * d < 1e-12) }' ||
+    fail "per-frame aggregation: $(tail -1 "$run/plots/series.dat")"
 else
   out="$(PATH=/nonexistent "$tool" plot "$run" 2>&1)" && fail "plot without gnuplot succeeded"
 fi
