@@ -78,7 +78,8 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
   };
   std::vector<Row> rows;
   for (const char* sceneName : {"peg-in-hole", "peg-in-hole-shrunk"}) {
-    haptics::HapticScene scene = haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json", sceneMeshLoader());
+    haptics::HapticScene scene =
+        haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json", sceneMeshLoader());
     for (const int n : counts) {
       haptics::resampleSceneShell(scene, n);
       for (haptics::HapticMethod method : {haptics::HapticMethod::Constraint, haptics::HapticMethod::Penalty}) {
@@ -95,8 +96,9 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
       }
     }
   }
-  std::printf("paper (peg, 6,691 points): penalty ~1,000 contacts fully inserted, constraint < 10; "
-              "matched hole: both insert; shrunk hole: constraint stops, penalty inserts; target p99 < 1 ms\n");
+  std::printf(
+      "paper (peg, 6,691 points): penalty ~1,000 contacts fully inserted, constraint < 10; "
+      "matched hole: both insert; shrunk hole: constraint stops, penalty inserts; target p99 < 1 ms\n");
   if (!o.csv.empty()) {
     AtomicFile file(o.csv);
     file.stream() << "scene,method,points,sim_cycle_p50_ms,sim_cycle_p99_ms,sim_cycle_max_ms,max_contacts,"

@@ -17,8 +17,7 @@ bool allFinite(const Mat6& m, const ConstraintRows& j, const Vec6& a) {
 
 }  // namespace
 
-bool ContactQpSolver::nnls(const Vec6& b, double tolerance, int maxIterations, Vec6& outResidual,
-                           int& outIterations) {
+bool ContactQpSolver::nnls(const Vec6& b, double tolerance, int maxIterations, Vec6& outResidual, int& outIterations) {
   const int n = static_cast<int>(m_columns.cols());
   m_x.setZero(n);
   m_passive.clear();
@@ -168,7 +167,8 @@ void ContactQpSolver::solve(const Mat6& massMatrix, const ConstraintRows& jacobi
   if (!outResult.acceleration.allFinite()) return fail();
   for (int k = 0; k < m; ++k) {
     const double len = jacobian.row(k).norm();
-    if (len > 0.0) outResult.maxViolation = std::max(outResult.maxViolation, jacobian.row(k).dot(outResult.acceleration) / len);
+    if (len > 0.0)
+      outResult.maxViolation = std::max(outResult.maxViolation, jacobian.row(k).dot(outResult.acceleration) / len);
   }
 
   if (y.norm() <= settings.blockedTolerance * yNorm) {

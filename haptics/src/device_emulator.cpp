@@ -46,7 +46,9 @@ DeviceEmulator::DeviceEmulator(const DeviceSettings& settings, UserScript script
   m_state.worldFromTarget = m_script.targetAt(0.0);
 }
 
-DeviceEmulator::~DeviceEmulator() { stop(); }
+DeviceEmulator::~DeviceEmulator() {
+  stop();
+}
 
 void DeviceEmulator::step(const Vec6& renderedWrench) {
   const double dt = timestep();

@@ -163,8 +163,7 @@ namespace {
 TriangleMesh sceneMesh(const Reader& r, const Json& j, const std::string& sceneFile, const MeshLoader& loader) {
   if (!j.contains("path") || !j.at("path").is_string()) r.fail("path", "must be a mesh file name");
   if (!loader) r.fail("path", "needs a mesh loader (this build has no mesh reader)");
-  const std::filesystem::path file =
-      std::filesystem::path(sceneFile).parent_path() / j.at("path").get<std::string>();
+  const std::filesystem::path file = std::filesystem::path(sceneFile).parent_path() / j.at("path").get<std::string>();
   TriangleMesh mesh = loader(file.string());
   const Box3 box = mesh.bounds();
   const double longest = box.sizes().maxCoeff();
@@ -261,8 +260,9 @@ HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoade
   } catch (const Error&) {
     // An open scanned mesh has no enclosed volume: take the solid box around it instead.
     const Vec3 e = mesh.bounds().sizes();
-    scene.inertiaDiagonal = scene.mass / 12.0 *
-                            Vec3(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(), e.x() * e.x() + e.y() * e.y());
+    scene.inertiaDiagonal =
+        scene.mass / 12.0 *
+        Vec3(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(), e.x() * e.x() + e.y() * e.y());
   }
   // (Mesh axes are kept: the off-diagonal inertia of an unsymmetric mesh is dropped, an approximation of
   // the QP's metric and of the penalty object's rotational inertia.)

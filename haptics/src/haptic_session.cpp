@@ -18,10 +18,14 @@ namespace sdfccd::haptics {
 
 const char* toString(HapticMethod method) {
   switch (method) {
-    case HapticMethod::Penalty: return "penalty";
-    case HapticMethod::DiscretePenalty: return "discrete-penalty";
-    case HapticMethod::Constraint: return "constraint";
-    case HapticMethod::DiscreteConstraint: return "discrete-constraint";
+    case HapticMethod::Penalty:
+      return "penalty";
+    case HapticMethod::DiscretePenalty:
+      return "discrete-penalty";
+    case HapticMethod::Constraint:
+      return "constraint";
+    case HapticMethod::DiscreteConstraint:
+      return "discrete-constraint";
   }
   return "?";
 }
@@ -40,7 +44,8 @@ using Clock = std::chrono::steady_clock;
 
 /// Deepest penetration (phi < 0) over every shell point at a pose: a point query of the tree.
 template <class Field>
-double measurePenetration(const PointTree& tree, const Field& field, const Rigid& sdfFromBody, RigidCcdResult& scratch) {
+double measurePenetration(const PointTree& tree, const Field& field, const Rigid& sdfFromBody,
+                          RigidCcdResult& scratch) {
   RigidCcdSettings s;
   s.sigma = 0.0;
   s.mode = CcdMode::FirstHit;
@@ -89,7 +94,8 @@ struct SimulationLog {
 template <class Field>
 HapticSessionResult runWithField(const HapticScene& scene, const Field& field, const HapticSessionSettings& settings) {
   const double seconds = settings.seconds > 0.0 ? settings.seconds : scene.seconds;
-  if (!(seconds > 0.0) || !std::isfinite(seconds) || seconds > 3600.0) throw Error("session: seconds must be in (0, 3600]");
+  if (!(seconds > 0.0) || !std::isfinite(seconds) || seconds > 3600.0)
+    throw Error("session: seconds must be in (0, 3600]");
   if (settings.simCyclesPerTick < 1 || settings.simCyclesPerTick > 1000)
     throw Error("session: simCyclesPerTick must be in [1, 1000]");
   const std::int64_t ticks = static_cast<std::int64_t>(std::llround(seconds * scene.device.rateHz));
@@ -281,7 +287,10 @@ std::string summaryJson(const HapticSessionSummary& s) {
   const auto num = [](double v) {
     std::ostringstream n;
     n << std::setprecision(9);
-    if (std::isfinite(v)) n << v; else n << "null";
+    if (std::isfinite(v))
+      n << v;
+    else
+      n << "null";
     return n.str();
   };
   o << "{\n"

@@ -73,8 +73,8 @@ Rigid UserScript::targetAt(double time) const {
   if (m_keys.empty()) return Rigid::Identity();
   if (!(time > m_keys.front().time)) return m_keys.front().worldFromTarget;
   if (time >= m_keys.back().time) return m_keys.back().worldFromTarget;
-  const auto it = std::upper_bound(m_keys.begin(), m_keys.end(), time,
-                                   [](double t, const PoseKeyframe& k) { return t < k.time; });
+  const auto it =
+      std::upper_bound(m_keys.begin(), m_keys.end(), time, [](double t, const PoseKeyframe& k) { return t < k.time; });
   const PoseKeyframe& b = *it;
   const PoseKeyframe& a = *(it - 1);
   return interpolatePose(a.worldFromTarget, b.worldFromTarget, (time - a.time) / (b.time - a.time));

@@ -29,10 +29,10 @@ CouplingWrench couplingWrench(const RigidBodyState& device, const RigidBodyState
   const Vec6 d = poseDifference(simulation.worldFromBody, device.worldFromBody);  // x_h - x_s
   Mat3 gLinear;
   Mat3 gAngular;
-  const Vec3 f = saturatingSpring(d.head<3>(), settings.linearStiffness, settings.maxDisplacement, gLinear,
-                                  w.linearSaturated);
-  const Vec3 t = saturatingSpring(d.tail<3>(), settings.angularStiffness, settings.maxRotation, gAngular,
-                                  w.angularSaturated);
+  const Vec3 f =
+      saturatingSpring(d.head<3>(), settings.linearStiffness, settings.maxDisplacement, gLinear, w.linearSaturated);
+  const Vec3 t =
+      saturatingSpring(d.tail<3>(), settings.angularStiffness, settings.maxRotation, gAngular, w.angularSaturated);
   w.onSimulation.head<3>() = f + settings.linearDamping * (device.linearVelocity - simulation.linearVelocity);
   w.onSimulation.tail<3>() = t + settings.angularDamping * (device.angularVelocity - simulation.angularVelocity);
   w.onDevice = -w.onSimulation;

@@ -1,6 +1,8 @@
 /// @file
 /// @brief ContactQpSolver against brute force (active-set enumeration), KKT checks, degenerate and
 /// fully-blocked (paper Fig. 13) cases.
+#include "sdfccd/haptics/contact_qp.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -8,8 +10,6 @@
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include "sdfccd/haptics/contact_qp.h"
 
 namespace sdfccd::haptics {
 namespace {
@@ -32,7 +32,9 @@ Vec6 randomVec(std::mt19937& rng, double scale = 1.0) {
   return v;
 }
 
-double objective(const Mat6& m, const Vec6& a, const Vec6& aU) { return (a - aU).dot(m * (a - aU)); }
+double objective(const Mat6& m, const Vec6& a, const Vec6& aU) {
+  return (a - aU).dot(m * (a - aU));
+}
 
 // Brute force: the optimum is the M-projection of a_u onto {J_S a = 0} for its active set S; enumerate every
 // subset, keep the feasible candidate with the smallest objective.
@@ -147,10 +149,10 @@ TEST(ContactQp, DegenerateRowsMatchBruteForce) {
     ConstraintRows j(6, 6);
     const Vec6 base = randomVec(rng);
     j.row(0) = base.transpose();
-    j.row(1) = base.transpose();                    // duplicate
-    j.row(2) = 3.5 * base.transpose();              // parallel, scaled
-    j.row(3) = Vec6::Zero().transpose();            // zero row: 0 <= 0
-    j.row(4) = (trial % 2 ? Vec6(-base) : randomVec(rng)).transpose();  // opposite: a slab of width 0
+    j.row(1) = base.transpose();                                             // duplicate
+    j.row(2) = 3.5 * base.transpose();                                       // parallel, scaled
+    j.row(3) = Vec6::Zero().transpose();                                     // zero row: 0 <= 0
+    j.row(4) = (trial % 2 ? Vec6(-base) : randomVec(rng)).transpose();       // opposite: a slab of width 0
     j.row(5) = (0.5 * base + 0.5 * Vec6(j.row(4).transpose())).transpose();  // in the span of others
     const Vec6 aU = randomVec(rng, 2.0);
     const ContactQpResult r = solver.solve(m, j, aU);

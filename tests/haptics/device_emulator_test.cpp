@@ -1,6 +1,8 @@
 /// @file
 /// @brief DeviceEmulator and UserScript: the scripted hand pulls the device to its target; force limits;
 /// keyframe interpolation; CSV trajectories and their errors; virtual-time determinism; the real-time loop.
+#include "sdfccd/haptics/device_emulator.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -10,7 +12,6 @@
 #include <thread>
 
 #include "sdfccd/error.h"
-#include "sdfccd/haptics/device_emulator.h"
 #include "sdfccd/haptics/latest_value.h"
 
 namespace sdfccd::haptics {

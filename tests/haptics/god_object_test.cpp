@@ -1,12 +1,13 @@
 /// @file
 /// @brief GodObject (Section 4.2) against analytic fields: it slides on a plane thanks to the ignored-points
 /// rule (and sticks without it), never sinks below the surface, and renders the coupling force when blocked.
+#include "sdfccd/haptics/god_object.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "sdfccd/analytic_fields.h"
-#include "sdfccd/haptics/god_object.h"
 #include "sdfccd/point_shell.h"
 #include "sdfccd/procedural_meshes.h"
 
@@ -107,7 +108,6 @@ TEST(GodObject, StopsAtFirstContactWhenThrownAtTheGround) {
   EXPECT_LT(minDistance(tree, ground, discrete.pose()), -0.1);
 }
 
-
 TEST(GodObject, SlidingAndTwistingOverASphereNeverSinks) {
   // Large rotations per cycle (0.05 rad) while pressed onto a curved surface: the constraints are linear in
   // the motion, the points' paths are chords; the god-object must still turn, slide and keep phi >= 0.
@@ -123,13 +123,13 @@ TEST(GodObject, SlidingAndTwistingOverASphereNeverSinks) {
     const double u = std::min(1.0, cycle / 500.0);
     Rigid device = Rigid::Identity();
     device.linear() = rotationFromVector(Vec3(0.0, 2.5 * u, 0.0));  // twist about the contact normal
-    device.translation() = Vec3(0.01 * u, 0.05, 0.0);  // pressed into the ball, dragged
+    device.translation() = Vec3(0.01 * u, 0.05, 0.0);               // pressed into the ball, dragged
     const GodObjectStepResult r = god.step(device);
     ASSERT_NE(r.qpState, ContactQpState::Failed);
     for (const Vec3& x : tree.shell().positions) lowest = std::min(lowest, ball.distance(god.pose() * x));
   }
   EXPECT_GE(lowest, 0.0);
-  EXPECT_GT(god.pose().translation().x(), 0.005);  // it did slide over the ball
+  EXPECT_GT(god.pose().translation().x(), 0.005);                  // it did slide over the ball
   EXPECT_GT(Eigen::AngleAxisd(god.pose().linear()).angle(), 1.0);  // and turned
 }
 

@@ -3,6 +3,8 @@
 /// peg in the matched hole (both methods), the shrunk hole (constraint stops, penalty goes in: Fig. 7),
 /// a fast push onto a thin wire (constraint never penetrates, discrete penalty tunnels: Figs. 11, 12),
 /// a box sliding on a plane, the Fig. 13 pocket (Stuck, never NaN); the real-time two-loop mode; outputs.
+#include "sdfccd/haptics/haptic_session.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,12 +12,13 @@
 #include <sstream>
 
 #include "sdfccd/error.h"
-#include "sdfccd/haptics/haptic_session.h"
 
 namespace sdfccd::haptics {
 namespace {
 
-std::string scenePath(const std::string& name) { return std::string(SDFCCD_ASSETS_DIR) + "/scenes/haptics/" + name; }
+std::string scenePath(const std::string& name) {
+  return std::string(SDFCCD_ASSETS_DIR) + "/scenes/haptics/" + name;
+}
 
 HapticSessionSummary run(const HapticScene& scene, HapticMethod method) {
   HapticSessionSettings s;
@@ -42,8 +45,8 @@ TEST(HapticSession, ShrunkHoleStopsTheConstraintMethodButNotPenalty) {
   EXPECT_EQ(constraint.maxPenetrationCells, 0.0);
   EXPECT_GT(constraint.blockedCycles, 0);
   const HapticSessionSummary penalty = run(scene, HapticMethod::Penalty);
-  EXPECT_TRUE(penalty.inserted);                 // the paper's false positive
-  EXPECT_GT(penalty.maxPenetrationCells, 0.0);   // ... through a shallow penetration
+  EXPECT_TRUE(penalty.inserted);                                // the paper's false positive
+  EXPECT_GT(penalty.maxPenetrationCells, 0.0);                  // ... through a shallow penetration
   EXPECT_GT(penalty.maxContacts, 10 * constraint.maxContacts);  // paper: ~1,000 vs under 10
 }
 
@@ -136,9 +139,9 @@ TEST(HapticSession, WritesTickCsvAndSummaryJson) {
   for (std::string line; std::getline(in, line);) ++rows;
   EXPECT_EQ(rows, 10);
   const std::string json = summaryJson(r.summary);
-  for (const char* key : {"\"method\"", "\"inserted\"", "\"max_penetration_cells\"", "\"tunneled\"",
-                          "\"haptic_rate_hz\"", "\"haptic_overruns\"", "\"sim_cycle_p50_ms\"", "\"sim_cycle_p99_ms\"",
-                          "\"max_contacts\""})
+  for (const char* key :
+       {"\"method\"", "\"inserted\"", "\"max_penetration_cells\"", "\"tunneled\"", "\"haptic_rate_hz\"",
+        "\"haptic_overruns\"", "\"sim_cycle_p50_ms\"", "\"sim_cycle_p99_ms\"", "\"max_contacts\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 
@@ -161,11 +164,13 @@ TEST(HapticScene, BadFilesGiveOneLineErrors) {
   expectBad("{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}}");  // no shell
   expectBad("{\"obstacle\": {\"spacing\": -1, \"solids\": []}, \"shell\": {}}");
   expectBad("{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}, \"shell\": {\"shape\": \"cone\"}}");
-  expectBad("{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}, \"shell\": {\"shape\": \"box\", \"halfExtents\": "
-            "[0.01,0.01,0.01], \"points\": 50}, \"start\": {\"position\": [0,0,0]}, \"script\": []}");
-  expectBad("{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}, \"shell\": {\"shape\": \"box\", \"halfExtents\": "
-            "[0.01,0.01,0.01], \"points\": 50}, \"start\": {\"position\": [0,0,0]}, \"script\": [{\"t\": 0, "
-            "\"position\": [0,0,\"x\"]}]}");
+  expectBad(
+      "{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}, \"shell\": {\"shape\": \"box\", \"halfExtents\": "
+      "[0.01,0.01,0.01], \"points\": 50}, \"start\": {\"position\": [0,0,0]}, \"script\": []}");
+  expectBad(
+      "{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}, \"shell\": {\"shape\": \"box\", \"halfExtents\": "
+      "[0.01,0.01,0.01], \"points\": 50}, \"start\": {\"position\": [0,0,0]}, \"script\": [{\"t\": 0, "
+      "\"position\": [0,0,\"x\"]}]}");
   EXPECT_THROW(loadHapticScene(path + ".missing"), Error);
   EXPECT_THROW(parseHapticMethod("springs"), Error);
 }

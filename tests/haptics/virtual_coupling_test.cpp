@@ -1,9 +1,9 @@
 /// @file
 /// @brief Virtual coupling: linear below x_max, saturated at F_max = k x_max above; gradients against
 /// finite differences; the device feels the reaction.
-#include <gtest/gtest.h>
-
 #include "sdfccd/haptics/virtual_coupling.h"
+
+#include <gtest/gtest.h>
 
 namespace sdfccd::haptics {
 namespace {

@@ -35,39 +35,39 @@ namespace sdfccd::haptics {
 
 /// The emulated device and the emulated hand.
 struct DeviceSettings {
-  double rateHz = 1000.0;                   ///< Hz, haptic loop rate
-  double mass = 0.3;                        ///< kg, apparent mass of the manipulandum
+  double rateHz = 1000.0;                       ///< Hz, haptic loop rate
+  double mass = 0.3;                            ///< kg, apparent mass of the manipulandum
   Vec3 inertiaDiagonal = Vec3::Constant(4e-4);  ///< kg m^2, body axes
-  double linearFriction = 1.0;              ///< N s/m, viscous friction of the mechanism
-  double angularFriction = 0.005;           ///< N m s/rad
-  double maxForce = 30.0;                   ///< N, largest force the device renders (per vector norm)
-  double maxTorque = 3.0;                   ///< N m, largest torque the device renders
-  double userStiffness = 200.0;             ///< N/m, the hand's grip spring towards the target
-  double userDamping = 8.0;                 ///< N s/m
-  double userAngularStiffness = 2.0;        ///< N m/rad
-  double userAngularDamping = 0.05;         ///< N m s/rad
+  double linearFriction = 1.0;                  ///< N s/m, viscous friction of the mechanism
+  double angularFriction = 0.005;               ///< N m s/rad
+  double maxForce = 30.0;                       ///< N, largest force the device renders (per vector norm)
+  double maxTorque = 3.0;                       ///< N m, largest torque the device renders
+  double userStiffness = 200.0;                 ///< N/m, the hand's grip spring towards the target
+  double userDamping = 8.0;                     ///< N s/m
+  double userAngularStiffness = 2.0;            ///< N m/rad
+  double userAngularDamping = 0.05;             ///< N m s/rad
 };
 
 /// What the device is doing at one tick.
 struct DeviceState {
-  std::int64_t tick = 0;                  ///< ticks done
-  double time = 0.0;                      ///< s, tick / rate
-  RigidBodyState body;                    ///< the manipulandum (x_h)
+  std::int64_t tick = 0;                      ///< ticks done
+  double time = 0.0;                          ///< s, tick / rate
+  RigidBodyState body;                        ///< the manipulandum (x_h)
   Rigid worldFromTarget = Rigid::Identity();  ///< the user's target at this time
-  Vec6 userWrench = Vec6::Zero();         ///< N, N m: what the hand applied last step
-  Vec6 renderedWrench = Vec6::Zero();     ///< N, N m: what the device rendered last step (after clamping)
+  Vec6 userWrench = Vec6::Zero();             ///< N, N m: what the hand applied last step
+  Vec6 renderedWrench = Vec6::Zero();         ///< N, N m: what the device rendered last step (after clamping)
 };
 
 /// Timing of a run of the loop.
 struct LoopTimingStats {
   std::int64_t ticks = 0;
-  double elapsedSeconds = 0.0;      ///< s, wall clock (virtual time: ticks / rate)
-  double achievedRateHz = 0.0;      ///< ticks / elapsed
-  double jitterP50Us = 0.0;         ///< us, median wake-up lateness
-  double jitterP99Us = 0.0;         ///< us
-  double jitterMaxUs = 0.0;         ///< us
-  double handlerP99Us = 0.0;        ///< us, 99th percentile of the tick handler + step time
-  std::int64_t overruns = 0;        ///< ticks that ended after the next deadline
+  double elapsedSeconds = 0.0;  ///< s, wall clock (virtual time: ticks / rate)
+  double achievedRateHz = 0.0;  ///< ticks / elapsed
+  double jitterP50Us = 0.0;     ///< us, median wake-up lateness
+  double jitterP99Us = 0.0;     ///< us
+  double jitterMaxUs = 0.0;     ///< us
+  double handlerP99Us = 0.0;    ///< us, 99th percentile of the tick handler + step time
+  std::int64_t overruns = 0;    ///< ticks that ended after the next deadline
   bool virtualTime = false;
 };
 

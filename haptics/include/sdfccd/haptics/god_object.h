@@ -41,7 +41,6 @@
 #pragma once
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -58,48 +57,48 @@ namespace sdfccd::haptics {
 
 /// Settings of the constraint-based renderer.
 struct GodObjectSettings {
-  double couplingGain = 0.5;            ///< k_s of eq. (6) (per cycle; the paper uses 0.5)
-  double renderStiffness = 300.0;       ///< N/m: k_h M (a_c - a_u) with k_h = renderStiffness / (k_s mass)
-  double mass = 0.1;                    ///< kg, the god-object's mass (the QP's metric)
+  double couplingGain = 0.5;                    ///< k_s of eq. (6) (per cycle; the paper uses 0.5)
+  double renderStiffness = 300.0;               ///< N/m: k_h M (a_c - a_u) with k_h = renderStiffness / (k_s mass)
+  double mass = 0.1;                            ///< kg, the god-object's mass (the QP's metric)
   Vec3 inertiaDiagonal = Vec3::Constant(1e-4);  ///< kg m^2, body axes
-  double sigma = 0.0;                   ///< contact level set (model units), >= 0
-  double contactThreshold = 0.0;        ///< model units: a point with phi - sigma <= this is in contact
-  double slideFloor = 0.0;              ///< level set of the ignored points' guard CCD (model units, <= sigma)
-  double sinkTolerance = 0.0;           ///< model units: how much deeper an ignored point already under the
-                                        ///< floor may go in one cycle (0: not at all)
-  bool ignoreContactPoints = true;      ///< the paper's sliding remedy (off only to show why it is needed)
-  bool guardIgnoredPoints = true;       ///< run the guard CCD on the ignored points
-  double maxStepTranslation = 0.0;      ///< model units per cycle (0: unlimited)
-  double maxStepRotation = 0.01;        ///< rad per cycle (0: unlimited); keeps point paths near-linear
-  double depthCorrection = 1.0;         ///< gain of the outward bias for contacts below sigma (0: off)
-  bool continuous = true;               ///< false: the discrete-collision variant (Fig. 11)
-  OctreeMode octree = OctreeMode::Leaves;  ///< cell skipping at haptic rates (Section 4.1: leaves)
+  double sigma = 0.0;                           ///< contact level set (model units), >= 0
+  double contactThreshold = 0.0;                ///< model units: a point with phi - sigma <= this is in contact
+  double slideFloor = 0.0;                      ///< level set of the ignored points' guard CCD (model units, <= sigma)
+  double sinkTolerance = 0.0;                   ///< model units: how much deeper an ignored point already under the
+                                                ///< floor may go in one cycle (0: not at all)
+  bool ignoreContactPoints = true;              ///< the paper's sliding remedy (off only to show why it is needed)
+  bool guardIgnoredPoints = true;               ///< run the guard CCD on the ignored points
+  double maxStepTranslation = 0.0;              ///< model units per cycle (0: unlimited)
+  double maxStepRotation = 0.01;                ///< rad per cycle (0: unlimited); keeps point paths near-linear
+  double depthCorrection = 1.0;                 ///< gain of the outward bias for contacts below sigma (0: off)
+  bool continuous = true;                       ///< false: the discrete-collision variant (Fig. 11)
+  OctreeMode octree = OctreeMode::Leaves;       ///< cell skipping at haptic rates (Section 4.1: leaves)
   CcdMethod ccdMethod = CcdMethod::Exact;
-  int threads = 1;                      ///< CCD worker threads
+  int threads = 1;  ///< CCD worker threads
   ContactQpSettings qp;
 };
 
 /// One contact of the god-object.
 struct GodObjectContact {
-  int point = -1;                              ///< shell point index
-  Vec3 normalIntoObstacle = Vec3::Zero();      ///< n_k, world, unit
-  Vec3 handle = Vec3::Zero();                  ///< r_k, world (from the centre to the point)
-  double distance = 0.0;                       ///< phi at the point (model units)
+  int point = -1;                          ///< shell point index
+  Vec3 normalIntoObstacle = Vec3::Zero();  ///< n_k, world, unit
+  Vec3 handle = Vec3::Zero();              ///< r_k, world (from the centre to the point)
+  double distance = 0.0;                   ///< phi at the point (model units)
 };
 
 /// What one simulation cycle did.
 struct GodObjectStepResult {
   ContactQpState qpState = ContactQpState::Solved;
-  bool blocked = false;                 ///< the QP's optimum was ~0 although a_u was not
-  Vec6 unconstrained = Vec6::Zero();    ///< a_u
-  Vec6 constrained = Vec6::Zero();      ///< a_c
-  Vec6 wrenchOnDevice = Vec6::Zero();   ///< F_c (N, N m)
-  double fraction = 1.0;                ///< how much of the tentative move was made (t_c)
-  int contactCount = 0;                 ///< contacts used by the QP this cycle
-  int nextContactCount = 0;             ///< contacts after the move (used next cycle)
-  int newContacts = 0;                  ///< of those, points that were not in contact before
-  double minContactDistance = 0.0;      ///< smallest phi over the next contact set (model units)
-  std::int64_t segmentQueries = 0;      ///< CCD work
+  bool blocked = false;                ///< the QP's optimum was ~0 although a_u was not
+  Vec6 unconstrained = Vec6::Zero();   ///< a_u
+  Vec6 constrained = Vec6::Zero();     ///< a_c
+  Vec6 wrenchOnDevice = Vec6::Zero();  ///< F_c (N, N m)
+  double fraction = 1.0;               ///< how much of the tentative move was made (t_c)
+  int contactCount = 0;                ///< contacts used by the QP this cycle
+  int nextContactCount = 0;            ///< contacts after the move (used next cycle)
+  int newContacts = 0;                 ///< of those, points that were not in contact before
+  double minContactDistance = 0.0;     ///< smallest phi over the next contact set (model units)
+  std::int64_t segmentQueries = 0;     ///< CCD work
 };
 
 template <class Field>

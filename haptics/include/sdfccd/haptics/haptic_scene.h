@@ -7,12 +7,12 @@
 /// renderers, in the scene's own units (metres in the shipped scenes). Contact tolerances are written in
 /// voxels ("cells") in the file and converted with the field's spacing.
 ///
-/// Static objects come from a mesh file (buildSdf, exact distances) or are built on the grid from exact box and y-axis cylinder signed distances combined by CSG:
-/// phi = max(min_i solid_i, -min_j hole_j). Its zero level set is the exact boundary, and near flat walls the
-/// values are the exact distances, so a field offset of 0.1 voxel ("fieldOffsetCells", field values minus
-/// 0.1 * spacing: the paper's shrunk hole) is exactly 0.1 voxel; a closed cavity (the stuck case of Fig. 13)
-/// is one hole. Shells come from the procedural meshes (box, cylinder, icosphere), sampled by particle
-/// repulsion (point_shell.h).
+/// Static objects come from a mesh file (buildSdf, exact distances) or are built on the grid from exact box and y-axis
+/// cylinder signed distances combined by CSG: phi = max(min_i solid_i, -min_j hole_j). Its zero level set is the exact
+/// boundary, and near flat walls the values are the exact distances, so a field offset of 0.1 voxel
+/// ("fieldOffsetCells", field values minus 0.1 * spacing: the paper's shrunk hole) is exactly 0.1 voxel; a closed
+/// cavity (the stuck case of Fig. 13) is one hole. Shells come from the procedural meshes (box, cylinder, icosphere),
+/// sampled by particle repulsion (point_shell.h).
 ///
 /// File format: see assets/scenes/haptics/README.md.
 #pragma once
@@ -38,7 +38,7 @@ namespace sdfccd::haptics {
 struct CsgPrimitive {
   enum class Kind { Box, CylinderY } kind = Kind::Box;
   Vec3 center = Vec3::Zero();
-  Vec3 halfExtents = Vec3::Zero();  ///< box half sizes; for a cylinder (radius, half height, unused)
+  Vec3 halfExtents = Vec3::Zero();             ///< box half sizes; for a cylinder (radius, half height, unused)
   double signedDistance(const Vec3& p) const;  ///< exact signed distance (model units)
 };
 
@@ -46,9 +46,9 @@ struct CsgPrimitive {
 struct CsgObstacle {
   std::vector<CsgPrimitive> solids;
   std::vector<CsgPrimitive> holes;
-  double spacing = 0.0;        ///< cell edge (model units)
-  int paddingCells = 3;        ///< cells around the solids' box
-  double offsetCells = 0.0;    ///< subtract offsetCells * spacing from every value (grows the object)
+  double spacing = 0.0;                        ///< cell edge (model units)
+  int paddingCells = 3;                        ///< cells around the solids' box
+  double offsetCells = 0.0;                    ///< subtract offsetCells * spacing from every value (grows the object)
   double signedDistance(const Vec3& p) const;  ///< CSG value before the offset
 };
 
@@ -77,13 +77,13 @@ struct HapticScene {
   // The manipulated object.
   std::shared_ptr<const PointTree> tree;
   std::shared_ptr<const TriangleMesh> shellMesh;  ///< the procedural mesh the shell was sampled from
-  int shellIterations = 10;               ///< repulsion iterations used for the shell
-  double mass = 0.0;                      ///< kg
-  Vec3 inertiaDiagonal = Vec3::Zero();    ///< kg m^2, body axes
+  int shellIterations = 10;                       ///< repulsion iterations used for the shell
+  double mass = 0.0;                              ///< kg
+  Vec3 inertiaDiagonal = Vec3::Zero();            ///< kg m^2, body axes
   Rigid worldFromBodyStart = Rigid::Identity();
   // The user and the loops.
   UserScript script;
-  double seconds = 0.0;                   ///< default session length (s)
+  double seconds = 0.0;  ///< default session length (s)
   DeviceSettings device;
   GodObjectSettings god;
   PenaltyRendererSettings penalty;

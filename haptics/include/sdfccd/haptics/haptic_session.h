@@ -34,24 +34,24 @@ HapticMethod parseHapticMethod(const std::string& name);
 
 struct HapticSessionSettings {
   HapticMethod method = HapticMethod::Constraint;
-  double seconds = 0.0;        ///< s; 0: the scene's default
-  bool realTime = false;       ///< true: 1 kHz loop on its own thread + simulation thread
-  int simCyclesPerTick = 1;    ///< virtual time, constraint methods: simulation cycles per haptic tick
-  bool recordTicks = true;     ///< keep one HapticTickRecord per tick
-  int ccdThreads = 1;          ///< CCD worker threads of the simulation
+  double seconds = 0.0;      ///< s; 0: the scene's default
+  bool realTime = false;     ///< true: 1 kHz loop on its own thread + simulation thread
+  int simCyclesPerTick = 1;  ///< virtual time, constraint methods: simulation cycles per haptic tick
+  bool recordTicks = true;   ///< keep one HapticTickRecord per tick
+  int ccdThreads = 1;        ///< CCD worker threads of the simulation
 };
 
 /// One row of the per-tick log (written by the haptic loop).
 struct HapticTickRecord {
   std::int64_t tick = 0;
-  double time = 0.0;                       ///< s
+  double time = 0.0;  ///< s
   Rigid worldFromDevice = Rigid::Identity();
   Rigid worldFromSimulation = Rigid::Identity();  ///< god-object or penalty object (newest known)
-  Vec6 wrenchOnDevice = Vec6::Zero();      ///< N, N m (before the device's clamping)
+  Vec6 wrenchOnDevice = Vec6::Zero();             ///< N, N m (before the device's clamping)
   int contacts = 0;
-  double penetration = 0.0;                ///< model units, >= 0, newest known
-  int qpState = 0;                         ///< ContactQpState of the newest cycle (constraint methods)
-  double simCycleMs = 0.0;                 ///< ms, duration of the newest simulation cycle
+  double penetration = 0.0;  ///< model units, >= 0, newest known
+  int qpState = 0;           ///< ContactQpState of the newest cycle (constraint methods)
+  double simCycleMs = 0.0;   ///< ms, duration of the newest simulation cycle
 };
 
 struct HapticSessionSummary {
@@ -73,10 +73,10 @@ struct HapticSessionSummary {
   double simCycleP99Ms = 0.0;
   double simCycleMaxMs = 0.0;
   int maxContacts = 0;
-  double meanContacts = 0.0;        ///< over simulation cycles
-  std::int64_t stuckCycles = 0;     ///< constraint: cycles whose QP reported Stuck
-  std::int64_t failedCycles = 0;    ///< constraint: cycles whose QP failed
-  std::int64_t blockedCycles = 0;   ///< constraint: cycles whose QP optimum was ~0
+  double meanContacts = 0.0;       ///< over simulation cycles
+  std::int64_t stuckCycles = 0;    ///< constraint: cycles whose QP reported Stuck
+  std::int64_t failedCycles = 0;   ///< constraint: cycles whose QP failed
+  std::int64_t blockedCycles = 0;  ///< constraint: cycles whose QP optimum was ~0
   int shellPoints = 0;
   Vec3 finalPosition = Vec3::Zero();  ///< the simulated object's centre at the end
   double insertProgress = 0.0;        ///< deepest reach along the insert axis (model units)

@@ -42,23 +42,23 @@ namespace sdfccd::haptics {
 
 /// Settings of the penalty renderer.
 struct PenaltyRendererSettings {
-  PenaltySettings contact;               ///< the penalty model (stiffness per point, damping, continuous/discrete)
-  VirtualCouplingSettings coupling;      ///< the device <-> object spring
-  double mass = 0.1;                     ///< kg, the simulated object
+  PenaltySettings contact;           ///< the penalty model (stiffness per point, damping, continuous/discrete)
+  VirtualCouplingSettings coupling;  ///< the device <-> object spring
+  double mass = 0.1;                 ///< kg, the simulated object
   Vec3 inertiaDiagonal = Vec3::Constant(1e-4);  ///< kg m^2, body axes
-  double timestep = 1e-3;                ///< s, the haptic tick
+  double timestep = 1e-3;                       ///< s, the haptic tick
   OctreeMode octree = OctreeMode::Leaves;
   CcdMethod ccdMethod = CcdMethod::Exact;
-  int threads = 1;                       ///< CCD worker threads
-  bool implicit = true;                  ///< false: symplectic Euler (for comparison)
+  int threads = 1;       ///< CCD worker threads
+  bool implicit = true;  ///< false: symplectic Euler (for comparison)
 };
 
 /// What one tick did.
 struct PenaltyStepResult {
-  Vec6 wrenchOnDevice = Vec6::Zero();    ///< N, N m (the coupling's reaction)
-  Vec6 contactWrench = Vec6::Zero();     ///< N, N m on the object, to act during the next tick
-  int contactCount = 0;                  ///< points that produced a force this tick
-  double maxPenetration = 0.0;           ///< deepest sample this tick (model units, >= 0)
+  Vec6 wrenchOnDevice = Vec6::Zero();  ///< N, N m (the coupling's reaction)
+  Vec6 contactWrench = Vec6::Zero();   ///< N, N m on the object, to act during the next tick
+  int contactCount = 0;                ///< points that produced a force this tick
+  double maxPenetration = 0.0;         ///< deepest sample this tick (model units, >= 0)
   std::int64_t segmentQueries = 0;
 };
 
@@ -67,7 +67,10 @@ class PenaltyRenderer {
  public:
   PenaltyRenderer(const PointTree& tree, const Field& field, const Rigid& worldFromSdf, const Rigid& worldFromBodyStart,
                   const PenaltyRendererSettings& settings)
-      : m_tree(tree), m_field(field), m_worldFromSdf(worldFromSdf), m_sdfFromWorld(worldFromSdf.inverse()),
+      : m_tree(tree),
+        m_field(field),
+        m_worldFromSdf(worldFromSdf),
+        m_sdfFromWorld(worldFromSdf.inverse()),
         m_settings(settings) {
     const auto finitePositive = [](double v) { return std::isfinite(v) && v > 0.0; };
     if (!finitePositive(settings.mass) || !finitePositive(settings.inertiaDiagonal.minCoeff()) ||

@@ -16,7 +16,7 @@ namespace sdfccd::haptics {
 
 /// One key of the target trajectory.
 struct PoseKeyframe {
-  double time = 0.0;                        ///< s, strictly increasing along the script
+  double time = 0.0;                          ///< s, strictly increasing along the script
   Rigid worldFromTarget = Rigid::Identity();  ///< the pose the user aims the device at
 };
 

@@ -17,19 +17,19 @@
 namespace sdfccd::haptics {
 
 struct VirtualCouplingSettings {
-  double linearStiffness = 500.0;   ///< k, N/m
-  double linearDamping = 5.0;       ///< N s/m
-  double angularStiffness = 0.5;    ///< N m/rad
-  double angularDamping = 0.005;    ///< N m s/rad
-  double maxDisplacement = 1e-3;    ///< x_max, m: the spring force saturates at k x_max
-  double maxRotation = 0.05;        ///< rad: the spring torque saturates at k_r theta_max
+  double linearStiffness = 500.0;  ///< k, N/m
+  double linearDamping = 5.0;      ///< N s/m
+  double angularStiffness = 0.5;   ///< N m/rad
+  double angularDamping = 0.005;   ///< N m s/rad
+  double maxDisplacement = 1e-3;   ///< x_max, m: the spring force saturates at k x_max
+  double maxRotation = 0.05;       ///< rad: the spring torque saturates at k_r theta_max
 };
 
 struct CouplingWrench {
-  Vec6 onSimulation = Vec6::Zero();  ///< N, N m: pulls the simulated object towards the device
-  Vec6 onDevice = Vec6::Zero();      ///< N, N m: the reaction, rendered to the user (= -onSimulation)
-  Mat6 poseGradient = Mat6::Zero();  ///< d onSimulation / d x_s (N/m, N m/rad blocks)
-  Mat6 twistGradient = Mat6::Zero(); ///< d onSimulation / d v_s
+  Vec6 onSimulation = Vec6::Zero();   ///< N, N m: pulls the simulated object towards the device
+  Vec6 onDevice = Vec6::Zero();       ///< N, N m: the reaction, rendered to the user (= -onSimulation)
+  Mat6 poseGradient = Mat6::Zero();   ///< d onSimulation / d x_s (N/m, N m/rad blocks)
+  Mat6 twistGradient = Mat6::Zero();  ///< d onSimulation / d v_s
   bool linearSaturated = false;
   bool angularSaturated = false;
 };
