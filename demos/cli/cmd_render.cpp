@@ -139,8 +139,17 @@ int runRender(const RenderOptions& options) {
     std::error_code error;
     fs::create_directories(outDir, error);
     if (error) throw Error("cannot create the frames folder '" + outDir + "': " + error.message());
+    // Frames whose number is a multiple of K, as `simulate --render --every K` names them; rows in steps of K
+    // when the numbering has no such frames.
+    std::vector<int> rows;
+    for (int i = 0; i < frameCount; ++i) {
+      if (frames.frameNumbers[static_cast<std::size_t>(i)] % every == 0) rows.push_back(i);
+    }
+    if (rows.empty()) {
+      for (int i = 0; i < frameCount; i += every) rows.push_back(i);
+    }
     ProgressBar bar("rendering frames");
-    for (int i = 0; i < frameCount; i += every) {
+    for (int i : rows) {
       const std::vector<Rigid>& poses = frames.worldFromBody[static_cast<std::size_t>(i)];
       renderer.renderToFile(poses, RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]),
                             options.groundContacts ? groundContacts(run.scene, poses, options.depthScale)
