@@ -72,8 +72,8 @@ struct RunStats {
   std::vector<float> fractions;  // first hit per segment, -1 when none
 };
 
-RunStats timeQueries(const GridField& field, const std::vector<Segment>& segments, CcdMethod method,
-                     OctreeMode octree, std::size_t count, bool keepFractions) {
+RunStats timeQueries(const GridField& field, const std::vector<Segment>& segments, CcdMethod method, OctreeMode octree,
+                     std::size_t count, bool keepFractions) {
   SegmentCcdSettings settings;
   settings.sigma = 0.0;
   settings.method = method;
@@ -207,8 +207,8 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     csv << "protocol,field,cells,method,octree,segments,us_per_segment_cpu,us_per_segment_wall,paper_s_per_1e6,hits,"
            "octree_memory_ratio,machine\n";
   }
-  auto csvRow = [&](const char* protocol, const std::string& field, int cells, const char* method,
-                    const char* octree, std::size_t n, const RunStats& r, double paper, double ratio) {
+  auto csvRow = [&](const char* protocol, const std::string& field, int cells, const char* method, const char* octree,
+                    std::size_t n, const RunStats& r, double paper, double ratio) {
     if (!csv) return;
     csv << protocol << ',' << field << ',' << cells << ',' << method << ',' << octree << ',' << n << ','
         << r.microseconds << ',' << r.wallMicroseconds << ',' << paper << ',' << r.hits << ',' << ratio << ",\""
@@ -222,8 +222,10 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     const char* octreeName;
   };
   const std::vector<Config> configs = {
-      {CcdMethod::Exact, OctreeMode::Off, "exact", "off"},       {CcdMethod::Exact, OctreeMode::Leaves, "exact", "leaves"},
-      {CcdMethod::Exact, OctreeMode::Full, "exact", "full"},     {CcdMethod::Bisection, OctreeMode::Off, "bisection", "off"},
+      {CcdMethod::Exact, OctreeMode::Off, "exact", "off"},
+      {CcdMethod::Exact, OctreeMode::Leaves, "exact", "leaves"},
+      {CcdMethod::Exact, OctreeMode::Full, "exact", "full"},
+      {CcdMethod::Bisection, OctreeMode::Off, "bisection", "off"},
       {CcdMethod::Bisection, OctreeMode::Leaves, "bisection", "leaves"},
       {CcdMethod::Bisection, OctreeMode::Full, "bisection", "full"},
   };
@@ -236,17 +238,18 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
   std::printf("\n%-22s %7s %-10s %-7s %9s %12s %12s %12s %9s\n", "protocol", "cells", "method", "octree", "segments",
               "us/segment", "wall us/seg", "paper s/1e6", "hits");
   for (const PaperTable2& row : rows) {
-    const auto grid = o.field.empty() ? bunnyField(o, row.resolution)
-                                      : std::make_shared<const SdfGrid>(loadSdf(o.field));
+    const auto grid =
+        o.field.empty() ? bunnyField(o, row.resolution) : std::make_shared<const SdfGrid>(loadSdf(o.field));
     const std::string fieldName = o.field.empty() ? "bunny" : o.field;
     const auto buildStart = std::chrono::steady_clock::now();
     const GridField field(grid);
     const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
     const int cells = grid->cellCounts().maxCoeff();
     const double ratio = static_cast<double>(field.octree().memoryBytes()) / static_cast<double>(grid->memoryBytes());
-    std::printf("-- %s %dx%dx%d cells: octree %.1f MB = %.1f%% of the grid's %.1f MB (paper: ~2x the grid), built in %.3f s\n",
-                fieldName.c_str(), grid->cellCounts().x(), grid->cellCounts().y(), grid->cellCounts().z(),
-                field.octree().memoryBytes() / 1e6, 100.0 * ratio, grid->memoryBytes() / 1e6, buildSeconds);
+    std::printf(
+        "-- %s %dx%dx%d cells: octree %.1f MB = %.1f%% of the grid's %.1f MB (paper: ~2x the grid), built in %.3f s\n",
+        fieldName.c_str(), grid->cellCounts().x(), grid->cellCounts().y(), grid->cellCounts().z(),
+        field.octree().memoryBytes() / 1e6, 100.0 * ratio, grid->memoryBytes() / 1e6, buildSeconds);
 
     // Protocol 1: Table 2.
     const std::vector<Segment> random = randomSegmentsInBox(grid->box(), static_cast<std::size_t>(count), o.seed);
@@ -267,7 +270,8 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
                   c.octreeName, n, r.microseconds, r.wallMicroseconds, paperText, r.hits);
       csvRow("table2-random", fieldName, cells, c.methodName, c.octreeName, n, r, paper, ratio);
     }
-    if (everything) std::printf("   exact/bisection time ratio (full octree): %.2f (paper: 1.2)\n", exactFull / bisectionFull);
+    if (everything)
+      std::printf("   exact/bisection time ratio (full octree): %.2f (paper: 1.2)\n", exactFull / bisectionFull);
 
 #ifdef SDFCCD_HAS_OPENVDB
     // The peer: OpenVDB's LevelSetRayIntersector on the same segments (those starting outside the surface:
@@ -286,15 +290,15 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
       const OpenVdbPeerResult peer = runOpenVdbPeer(*grid, peerSegments);
       std::printf("%-22s %7d %-10s %-7s %9lld %12.3f %12s %12s %9lld\n", "openvdb-peer", cells, "vdb-ray", "-",
                   peer.segments, peer.microseconds, "-", "-", peer.peerHits);
-      std::printf("   OpenVDB LevelSetRayIntersector (narrow band 3 cells, %.1f MB, converted in %.2f s) vs our exact: "
-                  "%lld our hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious; mean |phi| at the hits: "
-                  "OpenVDB %.2e, ours %.2e cells\n",
-                  peer.vdbBytes / 1e6, peer.conversionSeconds, peer.exactHits, peer.missed, peer.misplaced,
-                  peer.spurious, peer.meanAbsPhiPeer, peer.meanAbsPhiOurs);
+      std::printf(
+          "   OpenVDB LevelSetRayIntersector (narrow band 3 cells, %.1f MB, converted in %.2f s) vs our exact: "
+          "%lld our hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious; mean |phi| at the hits: "
+          "OpenVDB %.2e, ours %.2e cells\n",
+          peer.vdbBytes / 1e6, peer.conversionSeconds, peer.exactHits, peer.missed, peer.misplaced, peer.spurious,
+          peer.meanAbsPhiPeer, peer.meanAbsPhiOurs);
       if (csv) {
         csv << "openvdb-peer," << fieldName << ',' << cells << ",vdb-ray,-," << peer.segments << ','
-            << peer.microseconds << ",,," << peer.peerHits << ',' << ratio << ",\"" << machineDescription()
-            << "\"\n";
+            << peer.microseconds << ",,," << peer.peerHits << ',' << ratio << ",\"" << machineDescription() << "\"\n";
         csv << "misses-openvdb," << fieldName << ',' << cells << ",vdb-ray,-," << peer.exactHits << ",,,,"
             << peer.missed << ';' << peer.misplaced << ';' << peer.spurious << ',' << ratio << ",\""
             << machineDescription() << "\"\n";
@@ -316,22 +320,24 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     const double off = hapticTimes[static_cast<int>(OctreeMode::Off)];
     const double leaves = hapticTimes[static_cast<int>(OctreeMode::Leaves)];
     const double full = hapticTimes[static_cast<int>(OctreeMode::Full)];
-    if (everything) std::printf("   haptic, exact: off/leaves = %.2f (paper: 1.5), full/leaves = %.2f (paper: 2-3)\n", off / leaves,
-                full / leaves);
+    if (everything)
+      std::printf("   haptic, exact: off/leaves = %.2f (paper: 1.5), full/leaves = %.2f (paper: 2-3)\n", off / leaves,
+                  full / leaves);
 
     // Protocol 3: bisection's misses on this field.
     if (!everything) continue;
     const MissStats mr = compareFirstHits(field, random, std::min<std::size_t>(random.size(), 200000));
     const MissStats mh = compareFirstHits(field, haptic, haptic.size());
-    std::printf("   bisection vs exact, random: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
-                mr.exactHits, mr.missed, mr.misplaced, mr.spurious);
-    std::printf("   bisection vs exact, haptic: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
-                mh.exactHits, mh.missed, mh.misplaced, mh.spurious);
+    std::printf(
+        "   bisection vs exact, random: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
+        mr.exactHits, mr.missed, mr.misplaced, mr.spurious);
+    std::printf(
+        "   bisection vs exact, haptic: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
+        mh.exactHits, mh.missed, mh.misplaced, mh.spurious);
     if (csv) {
       for (const auto& [name, m] : {std::pair<const char*, MissStats>{"misses-random", mr}, {"misses-haptic", mh}}) {
-        csv << name << ',' << fieldName << ',' << cells << ",bisection,full," << m.exactHits << ",,,,"
-            << m.missed << ';' << m.misplaced << ';' << m.spurious << ',' << ratio << ",\"" << machineDescription()
-            << "\"\n";
+        csv << name << ',' << fieldName << ',' << cells << ",bisection,full," << m.exactHits << ",,,," << m.missed
+            << ';' << m.misplaced << ';' << m.spurious << ',' << ratio << ",\"" << machineDescription() << "\"\n";
       }
     }
     std::fflush(stdout);
@@ -347,39 +353,41 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     const GridField field(std::make_shared<const SdfGrid>(Vec3i(n, n, n), Vec3::Zero(), 1.0, std::move(values)));
     // Segments of up to 2 cells (long ones almost always start near a crossing cell).
     std::vector<Segment> segments = randomSegmentsInBox(field.grid().box(), 100000, o.seed + 2);
-    for (auto& s : segments) s.p1 = s.p0 + (s.p1 - s.p0).normalized() * 2.0 * std::uniform_real_distribution<double>(0, 1)(rng);
+    for (auto& s : segments)
+      s.p1 = s.p0 + (s.p1 - s.p0).normalized() * 2.0 * std::uniform_real_distribution<double>(0, 1)(rng);
     const MissStats m = compareFirstHits(field, segments, segments.size());
     const RunStats e = timeQueries(field, segments, CcdMethod::Exact, OctreeMode::Full, segments.size(), false);
     const RunStats b = timeQueries(field, segments, CcdMethod::Bisection, OctreeMode::Full, segments.size(), false);
     std::printf("-- random field 32^3 cells, values in [-1,1], 1e5 segments of <= 2 cells\n");
-    std::printf("   bisection vs exact: %lld exact hits, %lld missed (%.2f%%), %lld misplaced (%.2f%%), %lld spurious\n",
-                m.exactHits, m.missed, 100.0 * m.missed / std::max<long long>(m.exactHits, 1), m.misplaced,
-                100.0 * m.misplaced / std::max<long long>(m.exactHits, 1), m.spurious);
+    std::printf(
+        "   bisection vs exact: %lld exact hits, %lld missed (%.2f%%), %lld misplaced (%.2f%%), %lld spurious\n",
+        m.exactHits, m.missed, 100.0 * m.missed / std::max<long long>(m.exactHits, 1), m.misplaced,
+        100.0 * m.misplaced / std::max<long long>(m.exactHits, 1), m.spurious);
     std::printf("   time: exact %.3f us, bisection %.3f us, ratio %.2f (paper: 1.2)\n", e.microseconds, b.microseconds,
                 e.microseconds / b.microseconds);
     if (csv) {
-      csv << "misses-random-field,random,32,bisection,full," << m.exactHits << ",,,," << m.missed << ';'
-          << m.misplaced << ';' << m.spurious << ",,\"" << machineDescription() << "\"\n";
+      csv << "misses-random-field,random,32,bisection,full," << m.exactHits << ",,,," << m.missed << ';' << m.misplaced
+          << ';' << m.spurious << ",,\"" << machineDescription() << "\"\n";
     }
   }
   if (!o.csv.empty()) std::printf("wrote %s\n", o.csv.c_str());
   return 0;
 }
 
-const BenchRegistrar registrar("segments", "Table 2: segment CCD, uniform walk vs octree, exact vs bisection",
-                               [](CLI::App& sub) {
-                                 auto o = std::make_shared<BenchSegmentsOptions>();
-                                 sub.add_flag("--quick", o->quick, "64^3 and 128^3, 1e5 segments (seconds)");
-                                 sub.add_option("--out", o->csv, "CSV output (default bench_segments.csv; empty: none)");
-                                 sub.add_option("--field", o->field, "Use this field file instead of the bunny builds");
-                                 sub.add_option("--mesh", o->mesh, "Mesh for the bunny builds (default assets/meshes/bunny.off)");
-                                 sub.add_option("--cache", o->cache, "Folder of cached bunny fields (default out/cache)");
-                                 sub.add_option("--segments", o->segments, "Segments per protocol (default 1e6; 1e5 quick)");
-                                 sub.add_option("--seed", o->seed, "Random seed");
-                                 sub.add_option("--method", o->method, "Only this method (exact or bisection)");
-                                 sub.add_option("--octree", o->octree, "Only this octree mode (full, leaves or off)");
-                                 return std::function<int()>([o]() { return runBenchSegments(*o); });
-                               });
+const BenchRegistrar registrar(
+    "segments", "Table 2: segment CCD, uniform walk vs octree, exact vs bisection", [](CLI::App& sub) {
+      auto o = std::make_shared<BenchSegmentsOptions>();
+      sub.add_flag("--quick", o->quick, "64^3 and 128^3, 1e5 segments (seconds)");
+      sub.add_option("--out", o->csv, "CSV output (default bench_segments.csv; empty: none)");
+      sub.add_option("--field", o->field, "Use this field file instead of the bunny builds");
+      sub.add_option("--mesh", o->mesh, "Mesh for the bunny builds (default assets/meshes/bunny.off)");
+      sub.add_option("--cache", o->cache, "Folder of cached bunny fields (default out/cache)");
+      sub.add_option("--segments", o->segments, "Segments per protocol (default 1e6; 1e5 quick)");
+      sub.add_option("--seed", o->seed, "Random seed");
+      sub.add_option("--method", o->method, "Only this method (exact or bisection)");
+      sub.add_option("--octree", o->octree, "Only this octree mode (full, leaves or off)");
+      return std::function<int()>([o]() { return runBenchSegments(*o); });
+    });
 
 }  // namespace
 }  // namespace sdfccd::cli

@@ -58,7 +58,8 @@ std::vector<SegmentLine> readSegments(const std::string& path, double defaultSig
     std::size_t start = 0;
     for (;;) {
       const std::size_t comma = text.find(',', start);
-      const std::string field = trim(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      const std::string field =
+          trim(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
       if (field.empty()) throw Error(where + "empty value " + std::to_string(values.size() + 1));
       errno = 0;
       char* end = nullptr;

@@ -1,12 +1,13 @@
 /// @file
 /// @brief cubicNonPositiveIntervals: known roots, grazing double roots, degenerate leading coefficients,
 /// and random cubics against dense sampling.
+#include "sdfccd/cubic_roots.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 #include <vector>
 
-#include "sdfccd/cubic_roots.h"
 #include "sdfccd/math_types.h"
 
 namespace sdfccd {
@@ -96,7 +97,7 @@ TEST(CubicRoots, TripleRootAndRootsAtTheEnds) {
   const auto triple = intervalsOf(fromRoots(1.0, 0.3, 0.3, 0.3));  // <= 0 on [0, 0.3]
   ASSERT_EQ(triple.size(), 1u);
   EXPECT_EQ(triple[0].begin, 0.0);
-  EXPECT_NEAR(triple[0].end, 0.3, 1e-5);  // a triple root is ill-conditioned: ~cbrt(eps)
+  EXPECT_NEAR(triple[0].end, 0.3, 1e-5);                          // a triple root is ill-conditioned: ~cbrt(eps)
   const auto ends = intervalsOf(fromRoots(-1.0, 0.0, 1.0, 3.0));  // -x (x-1)(x-3): <= 0 on [0, 1]? sign check
   // At x = 0.5: -0.5 * -0.5 * -2.5 = -0.625 <= 0, and zero at both ends.
   ASSERT_EQ(ends.size(), 1u);

@@ -1,13 +1,13 @@
 /// @file
 /// @brief GridWalk (3D DDA): contiguous cell t-ranges, each cell holding its part of the segment, against
 /// the cells found by sorting every grid-plane crossing; degenerate directions; jumpTo consistency.
+#include "sdfccd/grid_walk.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <vector>
-
-#include "sdfccd/grid_walk.h"
 
 namespace sdfccd {
 namespace {
@@ -89,13 +89,13 @@ TEST(GridWalk, RandomSegmentsVisitTheCellsOfTheSortedPlaneCrossings) {
 
 TEST(GridWalk, DegenerateDirectionsAndVertices) {
   const Vec3i cells(8, 8, 8);
-  checkWalk(Vec3(0, 0, 0), Vec3(8, 8, 8), cells);      // through every vertex on the diagonal
-  checkWalk(Vec3(8, 8, 8), Vec3(-8, -8, -8), cells);   // backwards
-  checkWalk(Vec3(3, 4, 0), Vec3(0, 0, 8), cells);      // along a grid line
-  checkWalk(Vec3(3, 0.5, 0), Vec3(0, 7, 8), cells);    // in a grid plane
-  checkWalk(Vec3(8, 8, 0.5), Vec3(0, -8, 7), cells);   // on the box's far faces
-  checkWalk(Vec3(0, 0, 0), Vec3(8, 4, 2), cells);      // through every other vertex
-  checkWalk(Vec3(1, 2, 3), Vec3(1e-310, 4, 2), cells); // 1/d overflows: treated as not moving
+  checkWalk(Vec3(0, 0, 0), Vec3(8, 8, 8), cells);       // through every vertex on the diagonal
+  checkWalk(Vec3(8, 8, 8), Vec3(-8, -8, -8), cells);    // backwards
+  checkWalk(Vec3(3, 4, 0), Vec3(0, 0, 8), cells);       // along a grid line
+  checkWalk(Vec3(3, 0.5, 0), Vec3(0, 7, 8), cells);     // in a grid plane
+  checkWalk(Vec3(8, 8, 0.5), Vec3(0, -8, 7), cells);    // on the box's far faces
+  checkWalk(Vec3(0, 0, 0), Vec3(8, 4, 2), cells);       // through every other vertex
+  checkWalk(Vec3(1, 2, 3), Vec3(1e-310, 4, 2), cells);  // 1/d overflows: treated as not moving
   // Zero length: one cell, zero-length range.
   const auto one = walkAll(GridWalk(Vec3(2.5, 3, 4), Vec3::Zero(), cells, 0.0, 1.0));
   ASSERT_EQ(one.size(), 1u);

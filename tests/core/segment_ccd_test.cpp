@@ -35,14 +35,16 @@ void checkSegment(const GridField& field, const Vec3& p0, const Vec3& p1, double
       field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, OctreeMode::Full));
   ASSERT_TRUE(matchesBruteForce(field.grid(), p0, p1, sigma, full, samples, tolPhi)) << describe(p0, p1, sigma);
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
-    const SegmentCcdResult all = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, octree));
+    const SegmentCcdResult all =
+        field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, octree));
     ASSERT_EQ(all.state, full.state) << describe(p0, p1, sigma);
     ASSERT_EQ(all.intervals.size(), full.intervals.size()) << describe(p0, p1, sigma);
     for (std::size_t k = 0; k < all.intervals.size(); ++k) {
       ASSERT_EQ(all.intervals[k].begin, full.intervals[k].begin);
       ASSERT_EQ(all.intervals[k].end, full.intervals[k].end);
     }
-    const SegmentCcdResult first = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::FirstHit, CcdMethod::Exact, octree));
+    const SegmentCcdResult first =
+        field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::FirstHit, CcdMethod::Exact, octree));
     ASSERT_EQ(first.state, all.state) << describe(p0, p1, sigma);
     ASSERT_EQ(first.fraction, all.fraction) << describe(p0, p1, sigma);
   }
@@ -215,7 +217,8 @@ TEST(SegmentCcd, ZeroLengthSegmentIsAPointQuery) {
   // On a grid vertex.
   const Vec3 vertex(0.5, 0.75, 1.0);
   const double phi = field.grid().value(2, 3, 4);
-  EXPECT_EQ(field.intersectSegment(vertex, vertex, settingsOf(phi, CcdMode::FirstHit)).state, SegmentState::StartsInside);
+  EXPECT_EQ(field.intersectSegment(vertex, vertex, settingsOf(phi, CcdMode::FirstHit)).state,
+            SegmentState::StartsInside);
   EXPECT_EQ(field.intersectSegment(vertex, vertex, settingsOf(phi - 1e-6, CcdMode::FirstHit)).state,
             SegmentState::Separated);
 }
@@ -224,7 +227,8 @@ TEST(SegmentCcd, StartingInsideReportsFractionZeroAndNegativeDepth) {
   const GridField field(bumpyGrid());
   const Vec3 p0(1.5, 1.5, 1.5), p1(2.9, 0.2, 1.0);
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
-    const SegmentCcdResult r = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
+    const SegmentCcdResult r =
+        field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
     EXPECT_EQ(r.state, SegmentState::StartsInside);
     EXPECT_EQ(r.fraction, 0.0);
     EXPECT_NEAR(r.depth, field.distance(p0), 1e-12);
@@ -262,11 +266,20 @@ TEST(SegmentCcd, FullyOutsideSegmentsAreOutsideField) {
   const GridField field(bumpyGrid());
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
     // Beside the box, parallel to a face, and touching nothing.
-    EXPECT_EQ(field.intersectSegment(Vec3(-1, -1, -1), Vec3(-0.5, 4, 4), settingsOf(100.0, CcdMode::AllIntervals, CcdMethod::Exact, octree)).state,
+    EXPECT_EQ(field
+                  .intersectSegment(Vec3(-1, -1, -1), Vec3(-0.5, 4, 4),
+                                    settingsOf(100.0, CcdMode::AllIntervals, CcdMethod::Exact, octree))
+                  .state,
               SegmentState::OutsideField);
-    EXPECT_EQ(field.intersectSegment(Vec3(0, 3.5, 0), Vec3(3, 3.5, 3), settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree)).state,
+    EXPECT_EQ(field
+                  .intersectSegment(Vec3(0, 3.5, 0), Vec3(3, 3.5, 3),
+                                    settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree))
+                  .state,
               SegmentState::OutsideField);
-    EXPECT_EQ(field.intersectSegment(Vec3(4, 0, 0), Vec3(0, 0, -4), settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree)).state,
+    EXPECT_EQ(field
+                  .intersectSegment(Vec3(4, 0, 0), Vec3(0, 0, -4),
+                                    settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree))
+                  .state,
               SegmentState::OutsideField);
   }
 }
@@ -318,15 +331,16 @@ TEST(SegmentCcd, FieldFarFromTheOriginKeepsPrecision) {
 // interpolant is the cubic with Bernstein coefficients c000, (c100 + c010 + c001) / 3, (c110 + c101 + c011) / 3,
 // c111, so any cubic can be placed on the diagonal.
 std::shared_ptr<const SdfGrid> diagonalCubicCell(double b0, double b1, double b2, double b3) {
-  std::vector<float> v = {static_cast<float>(b0), static_cast<float>(b1), static_cast<float>(b1), static_cast<float>(b2),
-                          static_cast<float>(b1), static_cast<float>(b2), static_cast<float>(b2), static_cast<float>(b3)};
+  std::vector<float> v = {static_cast<float>(b0), static_cast<float>(b1), static_cast<float>(b1),
+                          static_cast<float>(b2), static_cast<float>(b1), static_cast<float>(b2),
+                          static_cast<float>(b2), static_cast<float>(b3)};
   return std::make_shared<SdfGrid>(Vec3i(2, 2, 2), Vec3::Zero(), 1.0, std::move(v));
 }
 
 // Bernstein coefficients of k (x - r1)(x - r2)(x - r3) on [0, 1].
 std::shared_ptr<const SdfGrid> diagonalCellWithRoots(double k, double r1, double r2, double r3) {
   auto p = [&](double x) { return k * (x - r1) * (x - r2) * (x - r3); };
-  const double d0 = k * (r1 * r2 + r1 * r3 + r2 * r3);  // p'(0)
+  const double d0 = k * (r1 * r2 + r1 * r3 + r2 * r3);                                      // p'(0)
   const double d1 = k * ((1 - r2) * (1 - r3) + (1 - r1) * (1 - r3) + (1 - r1) * (1 - r2));  // p'(1)
   return diagonalCubicCell(p(0.0), p(0.0) + d0 / 3.0, p(1.0) - d1 / 3.0, p(1.0));
 }
@@ -339,7 +353,8 @@ TEST(SegmentCcd, Fig2CaseAPositiveEndsWithAContactInsideBisectionMissesExactFind
     const SegmentCcdResult bisection =
         field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Bisection, octree));
     EXPECT_EQ(bisection.state, SegmentState::Separated);
-    const SegmentCcdResult exact = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
+    const SegmentCcdResult exact =
+        field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
     ASSERT_EQ(exact.state, SegmentState::Hit);
     ASSERT_EQ(exact.intervals.size(), 1u);
     EXPECT_TRUE(matchesBruteForce(field.grid(), p0, p1, 0.0, exact));
@@ -353,7 +368,8 @@ TEST(SegmentCcd, Fig2CaseBThreeCrossingsBisectionReportsTheLastExactTheFirst) {
   // Roots at 0.2, 0.5, 0.9; phi_in > 0 > phi_out: regula falsi converges to the last crossing.
   const GridField field(diagonalCellWithRoots(-1.0, 0.2, 0.5, 0.9));
   const Vec3 p0(0, 0, 0), p1(1, 1, 1);
-  const SegmentCcdResult bisection = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
+  const SegmentCcdResult bisection =
+      field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
   ASSERT_EQ(bisection.state, SegmentState::Hit);
   EXPECT_GT(bisection.fraction, 0.8);  // the third crossing
   const SegmentCcdResult exact = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals));
@@ -409,7 +425,8 @@ TEST(SegmentCcd, GrazingContactTouchingTheLevelSetCounts) {
   // Exactly representable touching: phi = 4 (x-1/2)^2 along an edge (y = z = 0), corners 1 and 1 with a dip is
   // not trilinear; use the plane phi = x touching sigma = 0 at the start instead (touching counts).
   const GridField plane(test::sampleGrid({3, 3, 3}, Vec3::Zero(), 1.0, [](const Vec3& p) { return p.x(); }));
-  const SegmentCcdResult atFace = plane.intersectSegment(Vec3(0, 0.5, 0.5), Vec3(0, 1.5, 1.7), settingsOf(0.0, CcdMode::AllIntervals));
+  const SegmentCcdResult atFace =
+      plane.intersectSegment(Vec3(0, 0.5, 0.5), Vec3(0, 1.5, 1.7), settingsOf(0.0, CcdMode::AllIntervals));
   EXPECT_EQ(atFace.state, SegmentState::StartsInside);
   ASSERT_EQ(atFace.intervals.size(), 1u);
   EXPECT_EQ(atFace.intervals[0].end, 1.0);
@@ -417,7 +434,8 @@ TEST(SegmentCcd, GrazingContactTouchingTheLevelSetCounts) {
 
 TEST(SegmentCcd, BisectionAgreesWithExactWhenEachCellHasOneCrossing) {
   // On a plane field each cell has at most one crossing: bisection's eq. (2) is exact there.
-  const auto grid = test::sampleGrid({9, 9, 9}, Vec3::Zero(), 0.25, [](const Vec3& p) { return p.x() + 0.5 * p.y() - 1.0; });
+  const auto grid =
+      test::sampleGrid({9, 9, 9}, Vec3::Zero(), 0.25, [](const Vec3& p) { return p.x() + 0.5 * p.y() - 1.0; });
   const GridField field(grid);
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(0.0, 2.0);

@@ -61,7 +61,8 @@ OpenVdbPeerResult runOpenVdbPeer(const SdfGrid& grid, const std::vector<PeerSegm
     double t = 0.0;
     if (intersector.intersectsWS(ray, xyz, t)) peer[s] = t / length;
   }
-  result.microseconds = 1e6 * (cpuSeconds() - cpuStart) / static_cast<double>(std::max<std::size_t>(segments.size(), 1));
+  result.microseconds =
+      1e6 * (cpuSeconds() - cpuStart) / static_cast<double>(std::max<std::size_t>(segments.size(), 1));
 
   result.segments = static_cast<long long>(segments.size());
   long long both = 0;

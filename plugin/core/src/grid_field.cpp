@@ -22,7 +22,9 @@ double GridField::distance(const Vec3& pointInSdf) const {
   return toBox + std::max(0.0, m_grid->interpolate(pointInSdf));
 }
 
-Vec3 GridField::gradient(const Vec3& pointInSdf) const { return m_grid->gradient(pointInSdf); }
+Vec3 GridField::gradient(const Vec3& pointInSdf) const {
+  return m_grid->gradient(pointInSdf);
+}
 
 namespace {
 

@@ -39,7 +39,8 @@ MinDistanceOctree::MinDistanceOctree(const SdfGrid& grid) {
           for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i) m = std::min(m, grid.value(i, j, k));
         level1[static_cast<std::size_t>(bx) +
-               static_cast<std::size_t>(n1.x()) * (static_cast<std::size_t>(by) + static_cast<std::size_t>(n1.y()) * bz)] = m;
+               static_cast<std::size_t>(n1.x()) *
+                   (static_cast<std::size_t>(by) + static_cast<std::size_t>(n1.y()) * bz)] = m;
       }
     }
   });

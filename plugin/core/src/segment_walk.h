@@ -34,17 +34,17 @@ constexpr int kBisectionIterations = 5;
 
 /// Everything the walk reads, gathered once per query.
 struct WalkContext {
-  const float* values = nullptr;   ///< grid values, i fastest
-  std::size_t strideY = 0;         ///< nodes per row
-  std::size_t strideZ = 0;         ///< nodes per slice
+  const float* values = nullptr;  ///< grid values, i fastest
+  std::size_t strideY = 0;        ///< nodes per row
+  std::size_t strideZ = 0;        ///< nodes per slice
   const MinDistanceOctree* octree = nullptr;
   double sigma = 0.0;
 };
 
 /// What the walk found.
 struct WalkOutput {
-  bool found = false;     ///< a contact was found
-  double first = 1.0;     ///< the first contact t (valid when found)
+  bool found = false;  ///< a contact was found
+  double first = 1.0;  ///< the first contact t (valid when found)
 };
 
 inline void appendMerged(IntervalList& list, double begin, double end) {
@@ -114,13 +114,14 @@ void walkSegment(const WalkContext& ctx, GridWalk& walk, bool pointOnly, WalkOut
     }
 
     const float* base = ctx.values + static_cast<std::size_t>(cell.x()) +
-                        ctx.strideY * static_cast<std::size_t>(cell.y()) + ctx.strideZ * static_cast<std::size_t>(cell.z());
+                        ctx.strideY * static_cast<std::size_t>(cell.y()) +
+                        ctx.strideZ * static_cast<std::size_t>(cell.z());
     const std::size_t sy = ctx.strideY, sz = ctx.strideZ;
-    const double c[8] = {base[0],      base[1],          base[sy],      base[sy + 1],
-                         base[sz],     base[sz + 1],     base[sz + sy], base[sz + sy + 1]};
+    const double c[8] = {base[0],  base[1],      base[sy],      base[sy + 1],
+                         base[sz], base[sz + 1], base[sz + sy], base[sz + sy + 1]};
     if constexpr (kOctree != OctreeMode::Off) {
-      const double cellMin =
-          std::min(std::min(std::min(c[0], c[1]), std::min(c[2], c[3])), std::min(std::min(c[4], c[5]), std::min(c[6], c[7])));
+      const double cellMin = std::min(std::min(std::min(c[0], c[1]), std::min(c[2], c[3])),
+                                      std::min(std::min(c[4], c[5]), std::min(c[6], c[7])));
       if (cellMin > sigma) {
         if (!walk.next()) break;
         continue;

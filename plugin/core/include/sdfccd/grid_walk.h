@@ -39,7 +39,7 @@ class GridWalk {
   }
 
   const Vec3i& cell() const { return m_cell; }
-  double cellBegin() const { return m_tIn; }                        ///< t where the walk entered cell()
+  double cellBegin() const { return m_tIn; }                           ///< t where the walk entered cell()
   double cellEnd() const { return std::min(nextCrossing(), m_tEnd); }  ///< t where it leaves cell()
   double end() const { return m_tEnd; }
   const Vec3& u0() const { return m_u0; }

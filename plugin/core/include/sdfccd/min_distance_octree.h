@@ -53,9 +53,9 @@ class MinDistanceOctree {
   float rootMin() const { return m_values.empty() ? 0.0f : m_values.back(); }
 
  private:
-  std::vector<float> m_values;               ///< all levels, finest (L = 1) first; the root is last
-  std::vector<std::size_t> m_levelOffsets;   ///< start of level L at [L - 1]
-  std::vector<Vec3i> m_levelCounts;          ///< blocks per axis of level L at [L - 1]
+  std::vector<float> m_values;              ///< all levels, finest (L = 1) first; the root is last
+  std::vector<std::size_t> m_levelOffsets;  ///< start of level L at [L - 1]
+  std::vector<Vec3i> m_levelCounts;         ///< blocks per axis of level L at [L - 1]
 };
 
 }  // namespace sdfccd
