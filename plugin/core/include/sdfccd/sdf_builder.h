@@ -6,16 +6,21 @@
 /// node to the closest point of the triangle set, negative inside. The grid spans the mesh's bounding box
 /// plus `padding` cells on every side; cells are cubes whose edge is the longest box side / `resolution`.
 ///
-/// Algorithm (see sdf_builder.cpp): the grid is processed in blocks of 8^3 nodes on worker threads. For each
-/// block a BVH query from the block centre gives an upper bound on every node's distance (centre distance +
-/// half-diagonal); a second BVH traversal collects the triangles whose box lies within that bound of the
-/// block; then every node loops over those candidates (SoA, per-triangle box lower bounds, warm-started with
-/// the previous node's closest triangle) and keeps the exact closest point.
+/// Algorithm (details in sdf_builder.cpp): the grid is processed in blocks of 8^3 nodes on worker threads,
+/// each refined like an octree (8 -> 4 -> 2 nodes per side). A box of nodes keeps the candidate triangles
+/// whose bounding box lies within d(centre) + half-diagonal of it (an upper bound on every node's distance);
+/// the block's list comes from a BVH, each child's is filtered from its parent's. Each node then finds its
+/// exact closest triangle among its 2^3 box's candidates: float box lower bounds (SoA, 8 lanes), a float
+/// point-triangle screen of the survivors, and the exact double closest point for the few left, warm-started
+/// with the previous node's closest triangle. Float bounds carry rounding allowances, so every value equals
+/// the brute-force minimum over all triangles (the tests check this).
 ///
 /// Sign: on closed (watertight, consistently oriented) meshes the sign of (node - closest point) . n, with n
 /// the angle-weighted pseudonormal of the closest feature (Baerentzen & Aanaes 2005), exact and cheap. On
 /// open meshes and meshes with holes the fast generalized winding number (Jacobson et al. 2013; Barill et al.
-/// 2018 far-field dipole approximation on the BVH) decides: inside where w >= 0.5.
+/// 2018 far-field dipole approximation on the BVH) decides: inside where w >= 0.5; a block whose bounding
+/// ball holds no surface and whose centre has w clearly 0 or 1 (|w - 1/2| > 1/4) gives that sign to all its
+/// nodes (w is continuous off the surface), every other node is evaluated on its own.
 #pragma once
 
 #include <cstddef>
@@ -80,7 +85,8 @@ struct SdfBuildStats {
   double meanCandidates = 0.0;                          ///< mean candidate triangles per block (diagnostic)
 };
 
-/// Result of buildSdf.
+/// Result of buildSdf. Keep it (or a copy of `grid`) alive: `const SdfGrid& g = *buildSdf(m, s).grid;`
+/// dangles once the temporary result is destroyed.
 struct SdfBuildResult {
   std::shared_ptr<const SdfGrid> grid;  ///< the field
   SdfBuildStats stats;
