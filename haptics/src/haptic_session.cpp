@@ -64,6 +64,7 @@ struct SimulationOutput {
   double penetration = 0.0;
   int qpState = 0;
   double cycleMs = 0.0;
+  bool idle = false;  // the cycle moved nothing (device still, god-object settled)
 };
 
 /// Statistics kept by whichever thread runs the simulation.
@@ -146,6 +147,7 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
       out.contacts = r.nextContactCount;
       out.penetration = measurePenetration(tree, field, sdfFromWorld * god.pose(), penetrationScratch);
       out.qpState = static_cast<int>(r.qpState);
+      out.idle = r.fraction * r.constrained.norm() < 1e-9 * scene.cellSize;
       log.stuck += r.qpState == ContactQpState::Stuck;
       log.failed += r.qpState == ContactQpState::Failed;
       log.blocked += r.blocked;
@@ -160,9 +162,19 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
       devicePose.publish(scene.worldFromBodyStart);
       std::thread simulation([&] {
         Rigid pose = Rigid::Identity();
+        std::uint64_t lastSequence = 0;
+        bool idle = false;
         while (!stop.load(std::memory_order_acquire)) {
-          devicePose.read(pose);
-          simulationOutput.publish(cycle(pose));
+          const std::uint64_t sequence = devicePose.read(pose);
+          if (idle && sequence == lastSequence) {
+            // Settled and the device has not moved: give the core back (it is shared with the haptic loop).
+            std::this_thread::yield();
+            continue;
+          }
+          lastSequence = sequence;
+          const SimulationOutput out = cycle(pose);
+          idle = out.idle;
+          simulationOutput.publish(out);
         }
       });
       device.start(
