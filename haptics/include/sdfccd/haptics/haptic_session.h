@@ -6,7 +6,8 @@
 /// - Constraint / DiscreteConstraint (Section 4.2): two asynchronous loops, as in the paper. The haptic loop
 ///   publishes the device pose and renders the newest F_c; the simulation loop (QP + CCD) runs as fast as it
 ///   can on its own thread, reading the newest device pose and publishing F_c, its pose and its contacts.
-///   They share two LatestValue slots (latest_value.h) and nothing else.
+///   They share two LatestValue slots (latest_value.h) and nothing else. When the god-object has settled
+///   and the device pose has not changed, the simulation loop yields its core instead of spinning.
 /// - Penalty / DiscretePenalty (Section 4.1): the implicit penalty step runs inside the haptic loop (one
 ///   simulation step per haptic tick, as the paper's admittance-mode loop does).
 /// Real time: the device loop sleeps to its deadlines on its own thread (start()). Virtual time
