@@ -204,7 +204,8 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.fail("", "is not valid JSON (" + what.substr(0, what.find('\n')) + ")");
   }
   r.checkObject(root, "");
-  r.checkKeys(root, {"name", "description", "timestep", "frames", "gravity", "effects", "ground", "contact", "bodies"}, "");
+  r.checkKeys(root, {"name", "description", "timestep", "frames", "gravity", "effects", "ground", "contact", "bodies",
+                     "sleeping"}, "");
   Scene s;
   s.name = r.string(root, "name", "");
   (void)r.string(root, "description", "");
@@ -212,6 +213,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   if (!(s.timestep > 0) || s.timestep > 1.0) r.fail("timestep", "must be in (0, 1] s (got " + numberText(s.timestep) + ")");
   s.frames = r.integer(root, "frames", "", s.frames, 1, 100000000);
   s.gravity = r.vec3(root, "gravity", "", s.gravity);
+  s.sleeping = r.boolean(root, "sleeping", "", s.sleeping);
   if (root.contains("effects")) {
     const Json& effects = root.at("effects");
     if (!effects.is_array()) r.fail("effects", "must be an array of strings");

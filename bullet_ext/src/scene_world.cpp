@@ -173,7 +173,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
         body->setAngularFactor(btVector3(0, 0, 0));  // no rotation effect: the bodies only translate
       }
     }
-    if (!settings.allowSleeping && !b.isStatic) body->setActivationState(DISABLE_DEACTIVATION);
+    if ((!settings.allowSleeping || !m_scene.sleeping) && !b.isStatic) body->setActivationState(DISABLE_DEACTIVATION);
     m_world->addRigidBody(body.get());
     m_bodies.push_back(body.get());
     m_bullet->shapes.push_back(std::move(shape));

@@ -70,6 +70,7 @@ struct Scene {
   Vec3 gravity = Vec3(0, -9.81, 0);  ///< m/s^2, used only with the "gravity" effect
   std::set<std::string> effects;
   double groundHeight = 0.0;   ///< m, used only with the "ground" effect
+  bool sleeping = true;        ///< bodies at rest may sleep (Bullet's thresholds); false: always simulated
   SceneContact contact;
   std::vector<SceneBody> bodies;
 
