@@ -15,6 +15,7 @@
 ///    largest stable timestep the discrete stiffness is lowered (x0.7 per try) until stable, and the two max
 ///    penetrations are compared (paper: discrete 2.75x deeper). Stable = no NaN, no tunnelling and total
 ///    energy (kinetic + potential) never more than 5% + 0.5 J above its start (penetration is reported).
+#if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
 #include <btBulletDynamicsCommon.h>
 
 #include <chrono>
@@ -235,3 +236,5 @@ const BenchRegistrar registrar("bullet", "Table 4 (CCD linear vs tree in drops) 
 
 }  // namespace
 }  // namespace sdfccd::cli
+
+#endif
