@@ -130,8 +130,11 @@ TEST(MeshLoader, BadFilesGiveOneLineErrorsNamingTheFile) {
   const std::string garbage = tempFile("garbage.stl", std::string("\x01\x02 this is not a mesh \xff\xfe", 24));
   const std::string points = tempFile("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   const std::string nan = tempFile("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  // The header promises 4 faces, the file lists 2: assimp used to abort inside its triangulation step.
+  const std::string truncated =
+      tempFile("truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n");
   for (const std::string& path :
-       {std::string("/nonexistent/mesh.obj"), empty, garbage, points, nan, ::testing::TempDir()}) {
+       {std::string("/nonexistent/mesh.obj"), empty, garbage, points, nan, truncated, ::testing::TempDir()}) {
     SCOPED_TRACE(path);
     try {
       loadMesh(path);
@@ -142,7 +145,7 @@ TEST(MeshLoader, BadFilesGiveOneLineErrorsNamingTheFile) {
       EXPECT_NE(message.find(path), std::string::npos) << message;
     }
   }
-  for (const auto& p : {empty, garbage, points, nan}) std::remove(p.c_str());
+  for (const auto& p : {empty, garbage, points, nan, truncated}) std::remove(p.c_str());
 }
 
 TEST(MeshLoader, SavedOffReadsBack) {

@@ -72,7 +72,10 @@ TriangleMesh loadMesh(const std::string& path, MeshRepairReport* outReport, cons
   // orients by topology and counts what it drops, so the report is honest.
   const unsigned flags =
       aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_RemoveComponent | aiProcess_SortByPType;
-  const aiScene* scene = importer.ReadFile(path, flags);
+  // Validate before any post-processing step runs: a truncated file (e.g. an OFF header promising more faces
+  // than it lists) leaves empty faces that trip an assertion (abort) inside assimp's TriangulateProcess.
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+  if (scene != nullptr && scene->mRootNode != nullptr) scene = importer.ApplyPostProcessing(flags);
   if (scene == nullptr || scene->mRootNode == nullptr) {
     throw Error("cannot read mesh '" + path + "': " + oneLine(importer.GetErrorString()));
   }
