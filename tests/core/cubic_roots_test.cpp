@@ -157,10 +157,14 @@ TEST(CubicRoots, RandomCubicsMatchDenseSampling) {
       const double gx = g(x);
       bool inside = false;
       for (const auto& i : iv) inside = inside || (x >= i.begin - 1e-9 && x <= i.end + 1e-9);
-      if (gx < -1e-9) ASSERT_TRUE(inside) << "n=" << n << " x=" << x << " g=" << gx;
+      if (gx < -1e-9) {
+        ASSERT_TRUE(inside) << "n=" << n << " x=" << x << " g=" << gx;
+      }
       bool strictlyInside = false;
       for (const auto& i : iv) strictlyInside = strictlyInside || (x > i.begin + 1e-9 && x < i.end - 1e-9);
-      if (gx > 1e-9) ASSERT_FALSE(strictlyInside) << "n=" << n << " x=" << x << " g=" << gx;
+      if (gx > 1e-9) {
+        ASSERT_FALSE(strictlyInside) << "n=" << n << " x=" << x << " g=" << gx;
+      }
     }
   }
 }

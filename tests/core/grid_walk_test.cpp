@@ -68,7 +68,9 @@ void checkWalk(const Vec3& u0, const Vec3& d, const Vec3i& cells) {
   }
   std::vector<Vec3i> got;
   for (std::size_t n = 0; n < visits.size(); ++n) {
-    if (n > 0) ASSERT_EQ(visits[n].tIn, visits[n - 1].tOut);  // contiguous
+    if (n > 0) {
+      ASSERT_EQ(visits[n].tIn, visits[n - 1].tOut);  // contiguous
+    }
     ASSERT_LE(visits[n].tIn, visits[n].tOut);
     if (visits[n].tOut - visits[n].tIn < 1e-12) continue;
     got.push_back(visits[n].cell);
