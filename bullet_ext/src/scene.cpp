@@ -205,7 +205,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   }
   r.checkObject(root, "");
   r.checkKeys(root, {"name", "description", "timestep", "frames", "gravity", "effects", "ground", "contact", "bodies",
-                     "sleeping"}, "");
+                     "sleeping", "camera"}, "");
   Scene s;
   s.name = r.string(root, "name", "");
   (void)r.string(root, "description", "");
@@ -233,6 +233,19 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.checkObject(g, "ground");
     r.checkKeys(g, {"height"}, "ground");
     s.groundHeight = r.number(g, "height", "ground", 0.0);
+  }
+  if (root.contains("camera")) {
+    // Read by the renderer (sdfccd simulate --render, sdfccd render); checked here so a typo fails early.
+    const Json& cam = root.at("camera");
+    r.checkObject(cam, "camera");
+    r.checkKeys(cam, {"eye", "target", "up", "fov"}, "camera");
+    if (!cam.contains("eye") || !cam.contains("target")) r.fail("camera", "needs \"eye\" and \"target\"");
+    const Vec3 eye = r.vec3(cam, "eye", "camera", Vec3::Zero());
+    const Vec3 target = r.vec3(cam, "target", "camera", Vec3::Zero());
+    if ((eye - target).norm() <= 0.0) r.fail("camera", "eye and target must differ");
+    (void)r.vec3(cam, "up", "camera", Vec3::UnitY());
+    const double fov = r.number(cam, "fov", "camera", 45.0);
+    if (!(fov > 0.0 && fov < 180.0)) r.fail("camera.fov", "must be in (0, 180) degrees (got " + numberText(fov) + ")");
   }
   if (root.contains("contact")) {
     const Json& c = root.at("contact");

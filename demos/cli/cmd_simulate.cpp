@@ -20,6 +20,7 @@
 
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
+#include "cli/run_frame_renderer.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
@@ -38,6 +39,9 @@ struct SimulateOptions {
   bool noToi = false;
   bool linear = false;
   std::string forceTiming;
+  std::string renderDir;  // --render: frames of the run as PNG
+  int renderEvery = 10;
+  std::string renderSize = "960x540";
 };
 
 std::string hex(std::uint64_t v) {
@@ -98,6 +102,22 @@ int runSimulate(const SimulateOptions& o) {
   }
   out << ",contacts,penetration,kinetic_energy,ccd_seconds,step_seconds,clamps\n";
 
+  // Frames are rendered while simulating (the same camera and names as `sdfccd render` of the run folder).
+  std::unique_ptr<RunFrameRenderer> frameRenderer;
+  if (!o.renderDir.empty()) {
+    frameRenderer = makeSceneFrameRenderer(o.scene, o.renderSize, o.renderEvery, o.renderDir);
+  }
+  auto renderFrame = [&](int frame) {
+    if (!frameRenderer || !frameRenderer->wantsFrame(frame)) return;
+    std::vector<Rigid> poses;
+    for (int i = 0; i < world->bodyCount(); ++i) {
+      const SceneBodyState s = world->bodyState(i);
+      poses.push_back(bodyPose(s.position, s.orientation));
+    }
+    frameRenderer->renderRunFrame(frame, poses, o.renderDir);
+  };
+  renderFrame(0);
+
   bool nan = false;
   int done = 0;
   {
@@ -121,6 +141,7 @@ int runSimulate(const SimulateOptions& o) {
         nan = true;
         break;
       }
+      renderFrame(done);
     }
   }
   csv.commit();
@@ -180,6 +201,9 @@ const CommandRegistrar registrar("simulate", [](CLI::App& app) {
   cmd->add_option("--stiffness", o->stiffness, "Override the contact stiffness (N/m per point)");
   cmd->add_flag("--no-toi", o->noToi, "Disable time-of-impact clamping");
   cmd->add_flag("--linear", o->linear, "Point-by-point CCD instead of the point tree");
+  cmd->add_option("--render", o->renderDir, "Also write frame_%05d.png of the run into this folder");
+  cmd->add_option("--every", o->renderEvery, "With --render: every K-th frame (default 10)");
+  cmd->add_option("--size", o->renderSize, "With --render: frame size WIDTHxHEIGHT (default 960x540)");
   cmd->add_option("--force-timing", o->forceTiming, "Override contact.force_timing: same_step or next_step");
   return std::function<int()>([o]() { return runSimulate(*o); });
 });

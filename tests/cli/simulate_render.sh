@@ -43,6 +43,22 @@ else
   [ "$(png_size "$work/run/contact_sheet.png")" = "132x92" ] || fail "contact sheet size $(png_size "$work/run/contact_sheet.png")"
 fi
 
+# simulate --render writes frames while simulating: frame 0 (the start) and every K-th frame after it, with the
+# scene's own camera; a camera with a bad field of view is rejected by the scene loader before anything runs.
+if ! echo "$render_out" | grep -q "built without the renderer"; then
+  sed 's/"name": "render-smoke",/"name": "render-smoke", "camera": { "eye": [1.2, 0.8, 1.2], "target": [0, 0.1, 0], "fov": 40 },/' \
+    "$work/scene.json" > "$work/camera.json"
+  out="$("$tool" simulate "$work/camera.json" --out "$work/run2" --cache "" --render "$work/live" --every 20 --size 120x80 2>&1)" ||
+    fail "simulate --render failed: $out"
+  for n in 00000 00020 00040 00060; do
+    [ "$(png_size "$work/live/frame_$n.png")" = "120x80" ] || fail "simulate --render: frame_$n.png missing or not 120x80"
+  done
+  [ "$(ls "$work/live" | wc -l)" -eq 4 ] || fail "simulate --render wrote $(ls "$work/live" | wc -l) files, expected 4"
+  sed 's/"fov": 40/"fov": 400/' "$work/camera.json" > "$work/badcamera.json"
+  err="$("$tool" simulate "$work/badcamera.json" --out "$work/run3" --cache "" 2>&1)" && fail "a 400 degree fov was accepted"
+  [ "$(echo "$err" | wc -l)" -eq 1 ] && echo "$err" | grep -q "fov" || fail "bad camera error is not one line naming fov: $err"
+fi
+
 if command -v gnuplot >/dev/null 2>&1; then
   out="$("$tool" plot "$work/run" 2>&1)" || fail "plot failed: $out"
   for p in penetration kinetic_energy contacts ccd_time overview; do
