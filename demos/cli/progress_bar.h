@@ -5,8 +5,9 @@
 /// The bar stays silent for work shorter than `delaySeconds` (default 1 s), then redraws itself on one line
 /// of stderr with '\r' at most ~10 times a second. update() is thread-safe (a mutex; calls are cheap when
 /// nothing is redrawn). finish() (also called by the destructor) ends the line with a newline if the bar was
-/// ever shown, so the next output starts on a fresh line. Nothing is printed when stderr is not a terminal
-/// unless `showWhenNotTerminal` is set: logs and tests stay clean.
+/// ever shown, so the next output starts on a fresh line. When stderr is not a terminal (a log file, CI) the
+/// bar prints plain lines instead of redrawing, one per 10% step after the delay, so long work shows progress
+/// in logs too while short work prints nothing.
 #pragma once
 
 #include <unistd.h>
@@ -22,10 +23,10 @@ namespace sdfccd::cli {
 
 class ProgressBar {
  public:
-  explicit ProgressBar(std::string label, double delaySeconds = 1.0, bool showWhenNotTerminal = false)
+  explicit ProgressBar(std::string label, double delaySeconds = 1.0)
       : m_label(std::move(label)),
         m_delaySeconds(delaySeconds),
-        m_enabled(showWhenNotTerminal || ::isatty(STDERR_FILENO) != 0),
+        m_terminal(::isatty(STDERR_FILENO) != 0),
         m_start(Clock::now()),
         m_lastDraw(m_start) {}
   ~ProgressBar() { finish(); }
@@ -34,12 +35,20 @@ class ProgressBar {
 
   /// Reports the fraction done in [0, 1]. Safe to call from any thread.
   void update(double fractionDone) {
-    if (!m_enabled) return;
     std::lock_guard<std::mutex> lock(m_mutex);
     if (m_finished) return;
     const Clock::time_point now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - m_start).count();
     if (elapsed < m_delaySeconds) return;
+    if (!m_terminal) {
+      const int step = static_cast<int>(std::clamp(fractionDone, 0.0, 1.0) * 10.0);
+      if (step <= m_lastStep || step >= 10) return;  // the end is printed by finish()
+      m_lastStep = step;
+      m_shown = true;
+      std::fprintf(stderr, "%s: %d%% (%.1f s)\n", m_label.c_str(), step * 10, elapsed);
+      std::fflush(stderr);
+      return;
+    }
     if (m_shown && std::chrono::duration<double>(now - m_lastDraw).count() < 0.1 && fractionDone < 1.0) return;
     m_lastDraw = now;
     m_shown = true;
@@ -58,6 +67,11 @@ class ProgressBar {
     m_finished = true;
     if (m_shown) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - m_start).count();
+      if (!m_terminal) {
+        std::fprintf(stderr, "%s: done (%.1f s)\n", m_label.c_str(), elapsed);
+        std::fflush(stderr);
+        return;
+      }
       draw(1.0, elapsed);
       std::fputc('\n', stderr);
       std::fflush(stderr);
@@ -79,7 +93,8 @@ class ProgressBar {
 
   std::string m_label;
   double m_delaySeconds;
-  bool m_enabled;
+  bool m_terminal;
+  int m_lastStep = 0;
   Clock::time_point m_start;
   Clock::time_point m_lastDraw;
   bool m_shown = false;
