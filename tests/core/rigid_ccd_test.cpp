@@ -339,5 +339,135 @@ TEST(RigidCcd, BunnyShellEqualsLinearAgainstTheBunnyField) { checkModel("bunny.o
 
 TEST(RigidCcd, DragonShellEqualsLinearAgainstTheDragonField) { checkModel("dragon.off", 3000, 30); }
 
+// earliestOnly: the full linear query's contacts at its minimum fraction (sorted by point, as the full ones).
+RigidCcdResult earliestOf(const RigidCcdResult& full) {
+  RigidCcdResult expected;
+  expected.firstFraction = full.firstFraction;
+  for (const auto& c : full.contacts) {
+    if (c.fraction == full.firstFraction) expected.contacts.push_back(c);
+  }
+  return expected;
+}
+
+// Earliest-only tree, linear and threaded tree all equal the minimum of the full linear contacts, bit for bit.
+// Returns the full linear result.
+template <class Field>
+RigidCcdResult checkEarliest(const PointTree& tree, const Field& field, const Rigid& a, const Rigid& b,
+                             RigidCcdSettings s, const std::string& what) {
+  s.earliestOnly = false;
+  s.useTree = false;
+  s.threads = 1;
+  const RigidCcdResult full = run(tree, field, a, b, s);
+  const RigidCcdResult expected = earliestOf(full);
+  EXPECT_EQ(full.contacts.empty(), expected.contacts.empty()) << what;
+  s.earliestOnly = true;
+  expectSameContacts(expected, run(tree, field, a, b, s), what + " earliest linear");
+  s.useTree = true;
+  const RigidCcdResult treeResult = run(tree, field, a, b, s);
+  expectSameContacts(expected, treeResult, what + " earliest tree");
+  EXPECT_LE(treeResult.stats.segmentQueries, full.stats.segmentQueries + tree.nodeCount()) << what;
+  s.threads = 2;
+  expectSameContacts(expected, run(tree, field, a, b, s), what + " earliest tree, 2 threads");
+  return full;
+}
+
+TEST(RigidCcd, EarliestOnlyEqualsTheMinimumOfTheLinearContactsOnRandomGridFields) {
+  std::mt19937 rng(31);
+  int withContacts = 0;
+  int withoutContacts = 0;
+  int startsInside = 0;
+  std::int64_t earliestQueries = 0;
+  std::int64_t fullQueries = 0;
+  for (int field = 0; field < 6; ++field) {
+    const GridField grid(bumpyGrid(200 + field, field % 2 == 0 ? 0.0 : 0.05));
+    const PointShell shell = field % 3 == 2 ? sampleBowl(800, 5) : test::randomShell(700, 0.6, rng);
+    PointTreeSettings treeSettings;
+    treeSettings.branching = 2 + 3 * (field % 3);
+    const PointTree tree(shell, treeSettings);
+    const Box3 poses = expanded(grid.grid().box(), 3.0);
+    for (int config = 0; config < 40; ++config) {
+      Rigid a = test::randomPose(poses, rng);
+      Rigid b = test::randomPose(poses, rng);
+      if (config % 4 == 0) {  // short step (the simulation case)
+        b.linear() = a.linear() * Eigen::AngleAxisd(0.2, Vec3::UnitZ()).toRotationMatrix();
+        b.translation() = a.translation() + 0.1 * (b.translation() - a.translation());
+      } else if (config % 4 == 1) {  // starts at the field's centre: some points start inside
+        a.translation() = grid.grid().box().center();
+      } else if (config % 8 == 2) {  // far from the field: no contact
+        a.translation() = poses.max() + Vec3::Constant(5.0);
+        b.translation() = poses.max() + Vec3(6.0, 5.0, 7.0);
+      }
+      RigidCcdSettings s;
+      s.sigma = (config % 5 == 0) ? 0.05 : (config % 5 == 1 ? -0.05 : 0.0);
+      s.mode = config % 3 == 2 ? CcdMode::FirstHit : CcdMode::AllIntervals;
+      s.method = config % 6 == 5 ? CcdMethod::Bisection : CcdMethod::Exact;
+      s.octree = config % 7 == 3 ? OctreeMode::Leaves : (config % 7 == 5 ? OctreeMode::Off : OctreeMode::Full);
+      const std::string what = "field " + std::to_string(field) + " config " + std::to_string(config);
+      const RigidCcdResult full = checkEarliest(tree, grid, a, b, s, what);
+      if (full.contacts.empty()) {
+        ++withoutContacts;
+      } else {
+        ++withContacts;
+      }
+      for (const auto& c : full.contacts) {
+        if (c.state == SegmentState::StartsInside) {
+          ++startsInside;
+          break;
+        }
+      }
+      fullQueries += full.stats.segmentQueries;
+      s.earliestOnly = true;
+      earliestQueries += run(tree, grid, a, b, s).stats.segmentQueries;
+    }
+  }
+  EXPECT_GT(withContacts, 50);
+  EXPECT_GT(withoutContacts, 10);
+  EXPECT_GT(startsInside, 20);
+  EXPECT_LT(earliestQueries, fullQueries);  // branch and bound prunes
+}
+
+TEST(RigidCcd, EarliestOnlyEqualsTheMinimumOfTheLinearContactsOnAnalyticFields) {
+  std::mt19937 rng(41);
+  const PointTree tree(sampleBowl(600, 10));
+  const SphereField sphere(Vec3(0.2, -0.1, 0.3), 0.8);
+  const PlaneField plane(Vec3(0.3, 1.0, -0.2), 0.1);
+  const Box3 poses(Vec3::Constant(-2.5), Vec3::Constant(2.5));
+  int hits = 0;
+  int inside = 0;
+  for (int config = 0; config < 120; ++config) {
+    const Rigid a = test::randomPose(poses, rng);
+    const Rigid b = test::randomPose(poses, rng);
+    RigidCcdSettings s;
+    s.sigma = config % 3 == 0 ? 0.1 : 0.0;
+    s.mode = config % 2 == 0 ? CcdMode::AllIntervals : CcdMode::FirstHit;
+    // Ignored points must stay ignored in the earliest query too.
+    std::vector<std::uint8_t> ignoredPoints(static_cast<std::size_t>(tree.pointCount()), 0);
+    for (std::size_t p = 0; p < ignoredPoints.size(); p += 3) ignoredPoints[p] = 1;
+    if (config % 5 == 4) s.ignoredPoints = &ignoredPoints;
+    const std::string what = "config " + std::to_string(config);
+    const RigidCcdResult r = checkEarliest(tree, sphere, a, b, s, what + " sphere");
+    hits += r.contacts.empty() ? 0 : 1;
+    inside += r.firstFraction == 0.0 ? 1 : 0;
+    checkEarliest(tree, plane, a, b, s, what + " plane");
+  }
+  EXPECT_GT(hits, 40);
+  EXPECT_GT(inside, 5);
+  // A closed-form check: translation only onto the ground, the lowest point touches first.
+  const PlaneField ground = PlaneField::ground();
+  Rigid start = Rigid::Identity();
+  start.translation() = Vec3(0.0, 3.0, 0.0);
+  Rigid end = start;
+  end.translation() = Vec3(0.0, -0.5, 0.0);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& x : tree.shell().positions) lowest = std::min(lowest, (start * x).y());
+  RigidCcdSettings s;
+  s.earliestOnly = true;
+  const RigidCcdResult r = run(tree, ground, start, end, s);
+  ASSERT_FALSE(r.contacts.empty());
+  EXPECT_NEAR(r.firstFraction, lowest / 3.5, 1e-14);
+  for (const auto& c : r.contacts) EXPECT_EQ(c.fraction, r.firstFraction);
+  EXPECT_LT(r.stats.segmentQueries, tree.pointCount() / 2);  // fewer than the linear query's
+}
+
 }  // namespace
 }  // namespace sdfccd

@@ -42,6 +42,12 @@ struct RigidCcdSettings {
   /// guarantees the linear query's contacts. 1 is the paper's test; it can miss contacts of a grid field
   /// whose interpolant is steeper than 1.
   double cullLipschitz = 0.0;
+  /// Only the earliest contact of the body (the time of impact): outResult.firstFraction and the contact(s) at
+  /// that fraction (every point whose first contact is exactly firstFraction), bit-identical to the minimum of
+  /// the full query's contacts. The tree is searched best-first (branch and bound): a node whose inflated
+  /// first hit comes after the best contact found so far is pruned. This mode always runs serially (threads
+  /// is ignored), so it is trivially identical for any thread count.
+  bool earliestOnly = false;
 };
 
 /// One shell point in contact during the step.

@@ -184,7 +184,78 @@ class RigidCcdQuery {
     }
   }
 
+  /// earliestOnly: keeps in `out.contacts` only the contacts at the smallest fraction seen so far.
+  void keepEarliest(int point, SegmentCcdResult& scratch, std::vector<PointContact>& candidate, bool& found,
+                    double& best, RigidCcdResult& out) const {
+    candidate.clear();
+    queryPoint(point, scratch, candidate, out.stats);
+    if (candidate.empty()) return;
+    PointContact& contact = candidate.front();
+    if (!found || contact.fraction < best) {
+      out.contacts.clear();
+      best = contact.fraction;
+      found = true;
+    }
+    if (contact.fraction == best) out.contacts.push_back(std::move(contact));
+  }
+
+  /// earliestOnly, serial. Tree: best-first search on the nodes' lower bounds (the fraction before which no
+  /// point below touches); a node whose bound exceeds the best contact found is pruned, and the search stops
+  /// when the smallest bound left does. Leaves run the same point query as the linear traversal, so the
+  /// fraction is bit-identical to the minimum over the linear contacts. Ties (bound == best) are kept, so
+  /// every point at the earliest fraction is returned.
+  void runEarliest(RigidCcdResult& out) const {
+    RigidCcdScratch& scratch = rigidCcdScratch();
+    std::vector<PointContact> candidate;
+    bool found = false;
+    double best = 1.0;
+    if (!m_settings.useTree) {
+      for (int p = 0; p < m_tree.pointCount(); ++p) {
+        if (!ignored(p)) keepEarliest(p, scratch.segment, candidate, found, best, out);
+      }
+    } else {
+      const int* firstChild = m_tree.firstChildren().data();
+      const int* childCount = m_tree.childCounts().data();
+      // A min-heap on the bound (ties by node index, for a deterministic order).
+      const auto later = [](const NodeTask& a, const NodeTask& b) {
+        return a.tStart > b.tStart || (a.tStart == b.tStart && a.node > b.node);
+      };
+      std::vector<NodeTask>& heap = scratch.current;
+      heap.clear();
+      heap.push_back({0, 0.0});
+      while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later);
+        const NodeTask task = heap.back();
+        heap.pop_back();
+        if (found && task.tStart > best) break;  // every node left starts later still
+        const int node = task.node;
+        if (childCount[node] == 0) {
+          const int point = m_tree.point(node);
+          if (ignored(point)) continue;
+          ++out.stats.nodesVisited;
+          keepEarliest(point, scratch.segment, candidate, found, best, out);
+          continue;
+        }
+        ++out.stats.nodesVisited;
+        double first = 0.0;
+        if (!nodeMayCollide(node, task.tStart, scratch.segment, out.stats, first)) continue;
+        if (found && first > best) continue;
+        for (int c = 0; c < childCount[node]; ++c) {
+          heap.push_back({firstChild[node] + c, first});
+          std::push_heap(heap.begin(), heap.end(), later);
+        }
+      }
+    }
+    std::sort(out.contacts.begin(), out.contacts.end(),
+              [](const PointContact& a, const PointContact& b) { return a.point < b.point; });
+    if (found) out.firstFraction = best;
+  }
+
   void run(RigidCcdResult& out) const {
+    if (m_settings.earliestOnly) {
+      runEarliest(out);
+      return;
+    }
     const int threads = m_settings.threads <= 0 ? defaultThreadCount() : m_settings.threads;
     RigidCcdScratch& scratch = rigidCcdScratch();
     if (m_settings.useTree) {
