@@ -9,6 +9,7 @@ ASSETS="$2"
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
+if ! "$SDFCCD" --help | grep -qE "^ +haptics "; then echo "skipped: built without the haptics module"; exit 0; fi
 
 "$SDFCCD" haptics "$ASSETS/scenes/haptics/plane-slide.json" --method constraint --seconds 0.2 --virtual-time \
   --out "$WORK/slide" > "$WORK/stdout.json" 2> "$WORK/err.txt" || fail "haptics exited non-zero: $(cat "$WORK/err.txt")"

@@ -8,7 +8,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
-if ! "$tool" simulate --help > /dev/null 2>&1; then echo "skipped: built without the Bullet plugin"; exit 0; fi
+if ! "$tool" --help | grep -qE "^ +simulate "; then echo "skipped: built without the Bullet plugin"; exit 0; fi
 value() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
 
 cat > "$work/drop.json" <<'JSON'
