@@ -67,8 +67,8 @@ class Reader {
     if (!v.is_number_integer()) fail(join(where, key), "must be an integer");
     const long long n = v.get<long long>();
     if (n < lo || n > hi) {
-      fail(join(where, key), "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " +
-                                 std::to_string(n) + ")");
+      fail(join(where, key),
+           "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " + std::to_string(n) + ")");
     }
     return static_cast<int>(n);
   }
@@ -85,9 +85,11 @@ class Reader {
     return j.at(key).get<std::string>();
   }
 
-  std::vector<double> numbers(const Json& j, const std::string& key, const std::string& where, std::size_t count) const {
+  std::vector<double> numbers(const Json& j, const std::string& key, const std::string& where,
+                              std::size_t count) const {
     const Json& v = j.at(key);
-    if (!v.is_array() || v.size() != count) fail(join(where, key), "must be an array of " + std::to_string(count) + " numbers");
+    if (!v.is_array() || v.size() != count)
+      fail(join(where, key), "must be an array of " + std::to_string(count) + " numbers");
     std::vector<double> out;
     for (const Json& e : v) {
       if (!e.is_number()) fail(join(where, key), "must be an array of " + std::to_string(count) + " numbers");
@@ -174,7 +176,8 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
     const std::vector<double> q = r.numbers(j, "orientation", where, 4);
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (std::abs(norm - 1.0) > 1e-6) {
-      r.fail(Reader::join(where, "orientation"), "must be a unit quaternion w, x, y, z (norm " + numberText(norm) + ")");
+      r.fail(Reader::join(where, "orientation"),
+             "must be a unit quaternion w, x, y, z (norm " + numberText(norm) + ")");
     }
     b.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
   }
@@ -204,13 +207,16 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.fail("", "is not valid JSON (" + what.substr(0, what.find('\n')) + ")");
   }
   r.checkObject(root, "");
-  r.checkKeys(root, {"name", "description", "timestep", "frames", "gravity", "effects", "ground", "contact", "bodies",
-                     "sleeping", "camera"}, "");
+  r.checkKeys(root,
+              {"name", "description", "timestep", "frames", "gravity", "effects", "ground", "contact", "bodies",
+               "sleeping", "camera"},
+              "");
   Scene s;
   s.name = r.string(root, "name", "");
   (void)r.string(root, "description", "");
   s.timestep = r.number(root, "timestep", "", s.timestep);
-  if (!(s.timestep > 0) || s.timestep > 1.0) r.fail("timestep", "must be in (0, 1] s (got " + numberText(s.timestep) + ")");
+  if (!(s.timestep > 0) || s.timestep > 1.0)
+    r.fail("timestep", "must be in (0, 1] s (got " + numberText(s.timestep) + ")");
   s.frames = r.integer(root, "frames", "", s.frames, 1, 100000000);
   s.gravity = r.vec3(root, "gravity", "", s.gravity);
   s.sleeping = r.boolean(root, "sleeping", "", s.sleeping);
@@ -250,8 +256,10 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   if (root.contains("contact")) {
     const Json& c = root.at("contact");
     r.checkObject(c, "contact");
-    r.checkKeys(c, {"model", "stiffness", "damping", "friction", "subintervals", "toi_clamp", "toi_depth_cells", "tree",
-                    "force_timing"}, "contact");
+    r.checkKeys(c,
+                {"model", "stiffness", "damping", "friction", "subintervals", "toi_clamp", "toi_depth_cells", "tree",
+                 "force_timing"},
+                "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
       s.contact.model = PenaltyModel::Discrete;

@@ -39,8 +39,12 @@ struct SceneWorld::Plate {
 
 namespace {
 
-Vec3 toVec3(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
-btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
+Vec3 toVec3(const btVector3& v) {
+  return Vec3(v.x(), v.y(), v.z());
+}
+btVector3 toBt(const Vec3& v) {
+  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
+}
 
 TriangleMesh primitiveMesh(const ScenePrimitive& p) {
   if (p.type == "box") return makeBox(p.halfExtents);
@@ -288,9 +292,19 @@ std::uint64_t SceneWorld::stateHash() const {
     const btRigidBody& b = *m_bodies[static_cast<std::size_t>(i)];
     const btTransform& t = b.getWorldTransform();
     const btQuaternion q = t.getRotation();
-    const btScalar values[13] = {t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z(), q.w(), q.x(), q.y(), q.z(),
-                                 b.getLinearVelocity().x(), b.getLinearVelocity().y(), b.getLinearVelocity().z(),
-                                 b.getAngularVelocity().x(), b.getAngularVelocity().y(), b.getAngularVelocity().z()};
+    const btScalar values[13] = {t.getOrigin().x(),
+                                 t.getOrigin().y(),
+                                 t.getOrigin().z(),
+                                 q.w(),
+                                 q.x(),
+                                 q.y(),
+                                 q.z(),
+                                 b.getLinearVelocity().x(),
+                                 b.getLinearVelocity().y(),
+                                 b.getLinearVelocity().z(),
+                                 b.getAngularVelocity().x(),
+                                 b.getAngularVelocity().y(),
+                                 b.getAngularVelocity().z()};
     bytes.append(reinterpret_cast<const char*>(values), sizeof values);
   }
   return fnv1a64(bytes);

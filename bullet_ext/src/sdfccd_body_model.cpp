@@ -155,8 +155,8 @@ std::shared_ptr<const SdfccdBodyModel> SdfccdBodyModel::loadFromFiles(const std:
   if (s != 1.0) {
     for (float& v : values) v = static_cast<float>(v * s);
   }
-  model->m_field = std::make_unique<GridField>(
-      std::make_shared<const SdfGrid>(loaded.nodeCounts(), loaded.origin() * s, loaded.spacing() * s, std::move(values)));
+  model->m_field = std::make_unique<GridField>(std::make_shared<const SdfGrid>(
+      loaded.nodeCounts(), loaded.origin() * s, loaded.spacing() * s, std::move(values)));
   model->m_bodyFromField = model->m_modelFromBody.inverse();
   PointShell shell = loadShell(shellPath);
   const Rigid bodyFromModel = model->m_modelFromBody.inverse();

@@ -28,8 +28,12 @@
 namespace sdfccd {
 namespace {
 
-Vec3 toVec3(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
-btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
+Vec3 toVec3(const btVector3& v) {
+  return Vec3(v.x(), v.y(), v.z());
+}
+btVector3 toBt(const Vec3& v) {
+  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
+}
 
 Rigid toRigid(const btTransform& t) {
   Rigid r = Rigid::Identity();
@@ -65,7 +69,9 @@ double threadCpuSeconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-bool isPlane(const btCollisionShape* shape) { return shape->getShapeType() == STATIC_PLANE_PROXYTYPE; }
+bool isPlane(const btCollisionShape* shape) {
+  return shape->getShapeType() == STATIC_PLANE_PROXYTYPE;
+}
 
 }  // namespace
 
@@ -112,7 +118,9 @@ struct SdfccdContactSystem::Role {
   bool shellIsBody0 = true;
 };
 
-SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings) { setSettings(settings); }
+SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings) {
+  setSettings(settings);
+}
 
 SdfccdContactSystem::~SdfccdContactSystem() = default;
 
@@ -499,7 +507,8 @@ std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamics
                                                               const SdfccdContactSettings& settings) {
   if (world == nullptr) throw Error("registerSdfccdAlgorithms: the world is null");
   auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(world->getDispatcher());
-  if (dispatcher == nullptr) throw Error("registerSdfccdAlgorithms: the world's dispatcher is not a btCollisionDispatcher");
+  if (dispatcher == nullptr)
+    throw Error("registerSdfccdAlgorithms: the world's dispatcher is not a btCollisionDispatcher");
   auto system = registerSdfccdAlgorithms(dispatcher, settings);
   world->addAction(system.get());
   return system;

@@ -20,7 +20,8 @@ SdfccdShape::SdfccdShape(std::shared_ptr<const SdfccdBodyModel> model) : m_model
 
 void SdfccdShape::getAabb(const btTransform& worldFromBody, btVector3& aabbMin, btVector3& aabbMax) const {
   // The rotated local box, grown by the margin (same construction as btTransformAabb).
-  const btVector3 halfExtents = 0.5f * (m_localAabbMax - m_localAabbMin) + btVector3(getMargin(), getMargin(), getMargin());
+  const btVector3 halfExtents =
+      0.5f * (m_localAabbMax - m_localAabbMin) + btVector3(getMargin(), getMargin(), getMargin());
   const btVector3 localCenter = 0.5f * (m_localAabbMax + m_localAabbMin);
   const btMatrix3x3 absBasis = worldFromBody.getBasis().absolute();
   const btVector3 center = worldFromBody(localCenter);

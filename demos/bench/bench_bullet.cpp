@@ -79,15 +79,14 @@ void runTable4(const BenchBulletOptions& o) {
     for (int f = 0; f < frames; ++f) world.step();
     const SdfccdContactStatistics& stats = world.contacts().statistics();
     const double tree = stats.ccdSeconds - stats.groundCcdSeconds;
-    const double linear = stats.shadowSteps > 0
-                              ? stats.shadowLinearSeconds * double(frames) / double(stats.shadowSteps)
-                              : 0.0;
+    const double linear =
+        stats.shadowSteps > 0 ? stats.shadowLinearSeconds * double(frames) / double(stats.shadowSteps) : 0.0;
     const bool extrapolated = settings.shadowLinearEvery > 1;
     int points = 0;
     for (int i = 0; i < world.bodyCount(); ++i) points = std::max(points, int(world.model(i).shell().size()));
     std::printf("%-11s %9d %7d | %10.2f%s %9.2f %7.1fx | %11.1f %9.1f %7.1fx | %9.2f\n", row.label, points, frames,
-                linear, extrapolated ? "*" : " ", tree, tree > 0 ? linear / tree : 0.0, row.paperLinear,
-                row.paperTree, row.paperLinear / row.paperTree, stats.groundCcdSeconds);
+                linear, extrapolated ? "*" : " ", tree, tree > 0 ? linear / tree : 0.0, row.paperLinear, row.paperTree,
+                row.paperLinear / row.paperTree, stats.groundCcdSeconds);
     csvRow("table4", row.label, "points", points);
     csvRow("table4", row.label, "frames", frames);
     csvRow("table4", row.label, "linear_seconds", linear);
@@ -107,8 +106,8 @@ struct StabilityRun {
   std::string why;
 };
 
-StabilityRun runStability(const Scene& base, PenaltyModel model, double timestep, double stiffness,
-                          double duration, const BenchBulletOptions& o) {
+StabilityRun runStability(const Scene& base, PenaltyModel model, double timestep, double stiffness, double duration,
+                          const BenchBulletOptions& o) {
   SceneWorldSettings settings;
   settings.cacheDir = o.cache;
   settings.model = model;
@@ -158,9 +157,10 @@ void runFig10a(const BenchBulletOptions& o) {
   const std::vector<double> timesteps =
       o.quick ? std::vector<double>{0.001, 0.002, 0.003, 0.004}
               : std::vector<double>{0.0005, 0.001, 0.0015, 0.002, 0.0025, 0.003, 0.004, 0.005, 0.006};
-  std::printf("\nFig. 10a: 20 bunnies, stiffness %.0f N/m per point, %.1f s simulated, force timing %s, no TOI "
-              "clamping, no friction\n",
-              stiffness, duration, o.forceTiming.c_str());
+  std::printf(
+      "\nFig. 10a: 20 bunnies, stiffness %.0f N/m per point, %.1f s simulated, force timing %s, no TOI "
+      "clamping, no friction\n",
+      stiffness, duration, o.forceTiming.c_str());
   double largest[2] = {0.0, 0.0};
   double penetrationAtLargest[2] = {0.0, 0.0};
   const PenaltyModel models[2] = {PenaltyModel::Continuous, PenaltyModel::Discrete};
@@ -191,10 +191,11 @@ void runFig10a(const BenchBulletOptions& o) {
     std::printf("  discrete   dt %.4f s, k %8.1f: %-8s max penetration %7.2f cells %s\n", largest[0], k,
                 run.stable ? "stable" : "UNSTABLE", run.maxPenetrationCells, run.why.c_str());
     if (run.stable) {
-      std::printf("at dt %.4f s: discrete (k %.0f) max penetration %.2f cells vs continuous (k %.0f) %.2f cells: "
-                  "%.2fx deeper (paper: 2.75x)\n",
-                  largest[0], k, run.maxPenetrationCells, stiffness, penetrationAtLargest[0],
-                  penetrationAtLargest[0] > 0 ? run.maxPenetrationCells / penetrationAtLargest[0] : 0.0);
+      std::printf(
+          "at dt %.4f s: discrete (k %.0f) max penetration %.2f cells vs continuous (k %.0f) %.2f cells: "
+          "%.2fx deeper (paper: 2.75x)\n",
+          largest[0], k, run.maxPenetrationCells, stiffness, penetrationAtLargest[0],
+          penetrationAtLargest[0] > 0 ? run.maxPenetrationCells / penetrationAtLargest[0] : 0.0);
       csvRow("fig10a", "softened_discrete", "stiffness", k);
       csvRow("fig10a", "softened_discrete", "max_penetration_cells", run.maxPenetrationCells);
       csvRow("fig10a", "continuous_at_largest_dt", "max_penetration_cells", penetrationAtLargest[0]);

@@ -69,7 +69,9 @@ struct Model {
 };
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // CPU time of the calling thread (s): robust to other processes sharing the machine.
 double cpuSeconds() {
@@ -131,7 +133,8 @@ int runBenchTree(const BenchTreeOptions& o) {
   if (resolution < 8 || resolution > 2048) throw Error("--resolution must be in 8..2048");
   if (configs > 1000000) throw Error("--configs must be at most 1000000");
   if (dragonPoints > 5000000) throw Error("--dragon-points must be at most 5000000");
-  std::vector<Model> models = {{"bunny", 777, 1.8, 0.7}, {"bowl", 2072, 3.4, 0.3}, {"dragon", dragonPoints, 761.2, 9.9}};
+  std::vector<Model> models = {
+      {"bunny", 777, 1.8, 0.7}, {"bowl", 2072, 3.4, 0.3}, {"dragon", dragonPoints, 761.2, 9.9}};
   std::vector<Model> chosen;
   for (const auto& m : models) {
     if (("," + o.models + ",").find("," + m.name + ",") != std::string::npos) chosen.push_back(m);
@@ -140,17 +143,19 @@ int runBenchTree(const BenchTreeOptions& o) {
 
   std::printf("Table 3: rigid CCD of point shells vs their SDFs, linear (point by point) vs point tree\n");
   std::printf("machine: %s; 1 thread, CPU time of the querying thread\n", machineDescription().c_str());
-  std::printf("protocol: %d random pose pairs in the 3x expanded field box (motion: %s), zero level set, exact "
-              "roots, %s at the leaves; fields %d cells along the longest side (paper: 1024^3)\n",
-              configs, o.motion == "random" ? "independent start and end poses" : "short steps, NOT Table 3",
-              o.mode.c_str(), resolution);
+  std::printf(
+      "protocol: %d random pose pairs in the 3x expanded field box (motion: %s), zero level set, exact "
+      "roots, %s at the leaves; fields %d cells along the longest side (paper: 1024^3)\n",
+      configs, o.motion == "random" ? "independent start and end poses" : "short steps, NOT Table 3", o.mode.c_str(),
+      resolution);
   if (earliest) {
     std::printf("query: earliest contact only (time of impact, branch and bound), both traversals\n");
   }
   if (o.quick) {
-    std::printf("QUICK RUN: %d^3-class fields, %d configurations, a %d-point dragon (paper: 437,645) -- not the "
-                "paper's protocol; run without --quick for Table 3\n",
-                resolution, configs, dragonPoints);
+    std::printf(
+        "QUICK RUN: %d^3-class fields, %d configurations, a %d-point dragon (paper: 437,645) -- not the "
+        "paper's protocol; run without --quick for Table 3\n",
+        resolution, configs, dragonPoints);
   }
   std::fflush(stdout);
 
@@ -268,18 +273,19 @@ int runBenchTree(const BenchTreeOptions& o) {
     std::fflush(stdout);
   }
 
-  std::printf("\n%-8s %9s %8s %14s %11s %11s %8s | %11s %11s %8s | %9s %10s %12s %12s\n", "model", "points",
-              "configs", "field", "linear [s]", "tree [s]", "speedup", "paper lin.", "paper tree", "paper x",
-              "hit cfgs", "contacts", "tree queries", "contacts [s]");
+  std::printf("\n%-8s %9s %8s %14s %11s %11s %8s | %11s %11s %8s | %9s %10s %12s %12s\n", "model", "points", "configs",
+              "field", "linear [s]", "tree [s]", "speedup", "paper lin.", "paper tree", "paper x", "hit cfgs",
+              "contacts", "tree queries", "contacts [s]");
   for (const Row& r : rows) {
     std::printf("%-8s %9d %8d %14s %11.3f %11.3f %7.1fx | %11.1f %11.1f %7.1fx | %8.0f%% %10.1f %12.1f %12.3f\n",
-                r.model.c_str(), r.points, configs, r.field.c_str(), r.linear, r.tree, r.linear / r.tree,
-                r.paperLinear, r.paperTree, r.paperLinear / r.paperTree, 100.0 * r.hitConfigs, r.contactsPerConfig,
+                r.model.c_str(), r.points, configs, r.field.c_str(), r.linear, r.tree, r.linear / r.tree, r.paperLinear,
+                r.paperTree, r.paperLinear / r.paperTree, 100.0 * r.hitConfigs, r.contactsPerConfig,
                 r.treeQueriesPerConfig, r.contactSeconds);
   }
-  std::printf("(paper: 1024^3 fields, 1,000 configurations. contacts, tree queries: per configuration. contacts [s]: "
-              "the queries of the touching points alone, the least any traversal must spend; linear / contacts [s] "
-              "bounds the speedup of any hierarchy)\n");
+  std::printf(
+      "(paper: 1024^3 fields, 1,000 configurations. contacts, tree queries: per configuration. contacts [s]: "
+      "the queries of the touching points alone, the least any traversal must spend; linear / contacts [s] "
+      "bounds the speedup of any hierarchy)\n");
   if (!o.csv.empty()) {
     AtomicFile file(o.csv);
     file.stream() << "model,points,configs,linear_s,tree_s,speedup\n";
@@ -304,10 +310,13 @@ const BenchRegistrar registrar("tree", "Table 3: rigid CCD, point by point vs th
   cmd.add_option("--dragon-points", o->dragonPoints, "Points of the dragon shell (default 437645; quick 20000)");
   cmd.add_option("--models", o->models, "Comma-separated subset of bunny,bowl,dragon");
   cmd.add_option("--seed", o->seed, "Seed of the poses");
-  cmd.add_option("--mode", o->mode, "What the leaves compute: first-hit (default: CCD = time of contact) or all-intervals");
-  cmd.add_option("--motion", o->motion, "random: independent start and end poses (Table 3, default); step: a short "
+  cmd.add_option("--mode", o->mode,
+                 "What the leaves compute: first-hit (default: CCD = time of contact) or all-intervals");
+  cmd.add_option("--motion", o->motion,
+                 "random: independent start and end poses (Table 3, default); step: a short "
                  "simulation-like step from each random pose");
-  cmd.add_option("--query", o->query, "all: every contact (default); earliest: only the earliest contact (time of "
+  cmd.add_option("--query", o->query,
+                 "all: every contact (default); earliest: only the earliest contact (time of "
                  "impact, branch and bound)");
   return std::function<int()>([o]() { return runBenchTree(*o); });
 });

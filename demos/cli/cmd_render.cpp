@@ -32,8 +32,8 @@ namespace fs = std::filesystem;
 struct RenderOptions {
   std::string runDir;
   std::string size = "960x540";
-  int every = 0;            // 0 = about 250 frames over the run
-  std::string outDir;       // default RUN_DIR/frames
+  int every = 0;       // 0 = about 250 frames over the run
+  std::string outDir;  // default RUN_DIR/frames
   int sheetCells = 12;
   int thumbWidth = 320;
   bool noFrames = false;
@@ -83,7 +83,8 @@ std::vector<FramePoints> groundContacts(const RunScene& scene, const std::vector
 }
 
 /// Writes outDir/frames.mp4 from the frames written, when ffmpeg is on PATH. Returns a one-line note.
-std::string writeVideo(const std::vector<std::string>& framePaths, double framesPerSecond, const std::string& videoPath) {
+std::string writeVideo(const std::vector<std::string>& framePaths, double framesPerSecond,
+                       const std::string& videoPath) {
   const std::optional<std::string> ffmpeg = findProgram("ffmpeg");
   if (!ffmpeg) return "no MP4: ffmpeg is not installed (Debian: apt-get install ffmpeg)";
   // The concat list names exactly the frames of this render (older frames in the folder are left out).
@@ -151,9 +152,9 @@ int runRender(const RenderOptions& options) {
     ProgressBar bar("rendering frames");
     for (int i : rows) {
       const std::vector<Rigid>& poses = frames.worldFromBody[static_cast<std::size_t>(i)];
-      renderer.renderToFile(poses, RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]),
-                            options.groundContacts ? groundContacts(run.scene, poses, options.depthScale)
-                                                   : std::vector<FramePoints>{});
+      renderer.renderToFile(
+          poses, RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]),
+          options.groundContacts ? groundContacts(run.scene, poses, options.depthScale) : std::vector<FramePoints>{});
       written.push_back(RunFrameRenderer::framePath(outDir, frames.frameNumbers[static_cast<std::size_t>(i)]));
       bar.update(static_cast<double>(i + 1) / frameCount);
     }
@@ -163,13 +164,14 @@ int runRender(const RenderOptions& options) {
   }
 
   if (options.sheetCells > 0) {
-    const int thumbHeight = std::max(1, static_cast<int>(std::lround(static_cast<double>(options.thumbWidth) * height /
-                                                                      width)));
+    const int thumbHeight =
+        std::max(1, static_cast<int>(std::lround(static_cast<double>(options.thumbWidth) * height / width)));
     std::vector<render::RgbImage> thumbs;
     for (int index : render::evenlySpacedFrames(frameCount, options.sheetCells)) {
       const std::vector<Rigid>& poses = frames.worldFromBody[static_cast<std::size_t>(index)];
       thumbs.push_back(renderer.renderImage(
-          poses, options.groundContacts ? groundContacts(run.scene, poses, options.depthScale) : std::vector<FramePoints>{},
+          poses,
+          options.groundContacts ? groundContacts(run.scene, poses, options.depthScale) : std::vector<FramePoints>{},
           options.thumbWidth, thumbHeight));
     }
     const std::string sheetPath = (fs::path(options.runDir) / "contact_sheet.png").string();

@@ -87,8 +87,7 @@ int runSimulate(const SimulateOptions& o) {
     settings.buildProgress = bar.callback();
     world = std::make_unique<SceneWorld>(scene, settings);
   }
-  const double buildSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+  const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
   AtomicFile csv(outDir + "/frames.csv");
   std::ostream& out = csv.stream();
@@ -178,13 +177,13 @@ int runSimulate(const SimulateOptions& o) {
   summary["result_hash"] = hex(world->stateHash());
   writeFileAtomically(outDir + "/summary.json", summary.dump(2) + "\n");
 
-  std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", scene.name.c_str(), done,
-              world->timestep(), world->bodyCount(), summary["model"].get<std::string>().c_str(),
-              scene.effectList().c_str());
-  std::printf("wall %.2f s (build %.2f s, steps %.2f s, CCD %.2f s); max penetration %.3f cells; %zu tunnelled; "
-              "%s; final kinetic energy %.6g J\n",
-              wallSeconds, buildSeconds, world->stepSeconds(), world->ccdSeconds(), world->maxPenetrationCells(),
-              tunneled.size(), nan ? "NaN DETECTED" : "no NaN", summary["final_kinetic_energy"].get<double>());
+  std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", scene.name.c_str(), done, world->timestep(),
+              world->bodyCount(), summary["model"].get<std::string>().c_str(), scene.effectList().c_str());
+  std::printf(
+      "wall %.2f s (build %.2f s, steps %.2f s, CCD %.2f s); max penetration %.3f cells; %zu tunnelled; "
+      "%s; final kinetic energy %.6g J\n",
+      wallSeconds, buildSeconds, world->stepSeconds(), world->ccdSeconds(), world->maxPenetrationCells(),
+      tunneled.size(), nan ? "NaN DETECTED" : "no NaN", summary["final_kinetic_energy"].get<double>());
   std::printf("wrote %s/frames.csv and %s/summary.json\n", outDir.c_str(), outDir.c_str());
   return nan ? 3 : 0;
 }

@@ -17,8 +17,8 @@ std::optional<std::string> findProgram(const std::string& name);
 
 /// Result of runProgram.
 struct ProgramRun {
-  int exitCode = -1;      ///< the program's exit status; -1 if it could not be started or was killed
-  std::string logTail;    ///< the last lines it printed (stdout and stderr)
+  int exitCode = -1;    ///< the program's exit status; -1 if it could not be started or was killed
+  std::string logTail;  ///< the last lines it printed (stdout and stderr)
 };
 
 /// Runs `arguments[0]` (found on PATH) with the rest as its arguments, waiting for it to end; its output goes to

@@ -134,8 +134,13 @@ struct SeriesColumn {
 
 const SeriesColumn kSeries[] = {
     {"contacts", {{"contacts", 1.0}, {"contact_count", 1.0}, {"num_contacts", 1.0}}, false},
-    {"penetration", {{"penetration", 1.0}, {"max_penetration", 1.0}, {"penetration_m", 1.0},
-                     {"penetration_cells", 1.0}, {"max_penetration_cells", 1.0}}, true},
+    {"penetration",
+     {{"penetration", 1.0},
+      {"max_penetration", 1.0},
+      {"penetration_m", 1.0},
+      {"penetration_cells", 1.0},
+      {"max_penetration_cells", 1.0}},
+     true},
     {"kinetic_energy", {{"kinetic_energy", 1.0}, {"ke", 1.0}}, false},
     {"ccd_seconds", {{"ccd_seconds", 1.0}, {"ccd_s", 1.0}, {"ccd_ms", 1e-3}}, false},
     {"step_seconds", {{"step_seconds", 1.0}, {"step_s", 1.0}, {"step_ms", 1e-3}}, false},
@@ -175,9 +180,9 @@ RunScene readRunScene(const std::string& path, const std::vector<std::string>& s
       throw Error("scene '" + path + "' has no \"bodies\" array");
     }
     // The ground is drawn when it is simulated: the "ground" effect (height from "ground": {"height": h}).
-    const bool groundEffect = json.contains("effects") && json["effects"].is_array() &&
-                              std::find(json["effects"].begin(), json["effects"].end(), "ground") !=
-                                  json["effects"].end();
+    const bool groundEffect =
+        json.contains("effects") && json["effects"].is_array() &&
+        std::find(json["effects"].begin(), json["effects"].end(), "ground") != json["effects"].end();
     if (groundEffect) {
       double height = 0.0;
       if (json.contains("ground") && json["ground"].is_object() && json["ground"].contains("height")) {
@@ -409,11 +414,12 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
   };
   auto readPose = [&](const std::vector<std::string>& row, const PoseColumns& pose, int lineNumber) {
     Rigid worldFromBody = Rigid::Identity();
-    worldFromBody.translation() =
-        Vec3(number(row, pose.p[0], lineNumber), number(row, pose.p[1], lineNumber), number(row, pose.p[2], lineNumber));
+    worldFromBody.translation() = Vec3(number(row, pose.p[0], lineNumber), number(row, pose.p[1], lineNumber),
+                                       number(row, pose.p[2], lineNumber));
     Quat q(number(row, pose.q[0], lineNumber), number(row, pose.q[1], lineNumber), number(row, pose.q[2], lineNumber),
            number(row, pose.q[3], lineNumber));
-    if (q.norm() < 1e-9) throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + ": zero quaternion");
+    if (q.norm() < 1e-9)
+      throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + ": zero quaternion");
     worldFromBody.linear() = q.normalized().toRotationMatrix();
     return worldFromBody;
   };
@@ -436,16 +442,15 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
     if (trim(line).empty() || line[0] == '#') continue;
     const std::vector<std::string> row = splitCsvLine(line);
     if (row.size() != header.size()) {
-      throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + " has " +
-                  std::to_string(row.size()) + " fields, the header " + std::to_string(header.size()) +
-                  " (truncated file?)");
+      throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + " has " + std::to_string(row.size()) +
+                  " fields, the header " + std::to_string(header.size()) + " (truncated file?)");
     }
     const double time = number(row, timeColumn, lineNumber);
     const double key = frameColumn >= 0 ? number(row, frameColumn, lineNumber) : time;
     const bool newFrame = bodyColumn < 0 || frames.times.empty() || key != lastKey;
     if (newFrame) {
-      const int frameNumber = frameColumn >= 0 ? static_cast<int>(std::lround(key))
-                                               : static_cast<int>(frames.frameNumbers.size());
+      const int frameNumber =
+          frameColumn >= 0 ? static_cast<int>(std::lround(key)) : static_cast<int>(frames.frameNumbers.size());
       startFrame(frameNumber, time);
     }
     lastKey = key;

@@ -22,7 +22,6 @@
 #include "sdfccd/math_types.h"
 #include "sdfccd/triangle_mesh.h"
 
-
 namespace sdfccd::cli {
 
 /// A procedural shape instead of a mesh file (scene key "primitive"; procedural_meshes.h).
@@ -42,10 +41,10 @@ struct RunPrimitive {
 /// places it.
 struct RunBody {
   std::string name;
-  std::string meshPath;                      ///< resolved path of the mesh file (empty for a primitive)
+  std::string meshPath;  ///< resolved path of the mesh file (empty for a primitive)
   std::optional<RunPrimitive> primitive;
-  double scale = 1.0;                        ///< uniform scale of the mesh (baked into `mesh`)
-  double mass = 1.0;                         ///< kg (0 for static bodies)
+  double scale = 1.0;  ///< uniform scale of the mesh (baked into `mesh`)
+  double mass = 1.0;   ///< kg (0 for static bodies)
   bool isStatic = false;
   Quat orientationAtStart = Quat::Identity();  ///< the scene's "orientation" (of the mesh's own axes)
   Vec3 positionAtStart = Vec3::Zero();         ///< the scene's "position" (of the centre of mass, m)
@@ -65,7 +64,7 @@ struct RunCamera {
 
 /// What the renderer needs from a scene file.
 struct RunScene {
-  std::string path;                    ///< the scene file read
+  std::string path;  ///< the scene file read
   std::vector<RunBody> bodies;
   std::optional<double> groundHeight;  ///< y of the ground plane (m), when the scene has a ground
   std::optional<RunCamera> camera;
@@ -73,12 +72,12 @@ struct RunScene {
 
 /// Per-frame data of a run.
 struct RunFrames {
-  std::vector<int> frameNumbers;                     ///< the CSV's frame numbers (0, 1, ... without a column)
-  std::vector<double> times;                         ///< simulated time of each frame (s)
-  std::vector<std::vector<Rigid>> worldFromBody;     ///< [frame][body], bodies in scene order
-  std::map<std::string, std::vector<double>> series; ///< "contacts", "penetration", "kinetic_energy",
-                                                     ///< "ccd_seconds", "step_seconds": one value per frame
-  std::map<std::string, std::string> seriesSource;   ///< the CSV column (or "computed") behind each series
+  std::vector<int> frameNumbers;                      ///< the CSV's frame numbers (0, 1, ... without a column)
+  std::vector<double> times;                          ///< simulated time of each frame (s)
+  std::vector<std::vector<Rigid>> worldFromBody;      ///< [frame][body], bodies in scene order
+  std::map<std::string, std::vector<double>> series;  ///< "contacts", "penetration", "kinetic_energy",
+                                                      ///< "ccd_seconds", "step_seconds": one value per frame
+  std::map<std::string, std::string> seriesSource;    ///< the CSV column (or "computed") behind each series
 };
 
 /// File names inside a run folder.

@@ -20,8 +20,8 @@ void parseImageSize(const std::string& text, int& outWidth, int& outHeight) {
   int height = 0;
   char x = 0;
   char extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || (x != 'x' && x != 'X') ||
-      width < 1 || height < 1 || width > 8192 || height > 8192) {
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || (x != 'x' && x != 'X') || width < 1 ||
+      height < 1 || width > 8192 || height > 8192) {
     throw Error("image size must be WIDTHxHEIGHT between 1x1 and 8192x8192, got '" + text + "'");
   }
   outWidth = width;

@@ -34,8 +34,10 @@ const PlotSpec kPlots[] = {
 std::string quoted(const std::string& text) {
   std::string result = "'";
   for (char c : text) {
-    if (c == '\'') result += "''";  // gnuplot's single-quote escape
-    else result += c;
+    if (c == '\'')
+      result += "''";  // gnuplot's single-quote escape
+    else
+      result += c;
   }
   return result + "'";
 }
@@ -128,8 +130,8 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
   std::snprintf(overviewTerminal, sizeof(overviewTerminal), "set terminal %s size %d,%d%s\n",
                 cairo ? "pngcairo" : "png", settings.width * 2, settings.height * rows,
                 cairo ? " enhanced font 'sans,10'" : "");
-  script << overviewTerminal << "set output " << quoted(overview + ".tmp-gnuplot") << "\nset multiplot layout "
-         << rows << ",2\n";
+  script << overviewTerminal << "set output " << quoted(overview + ".tmp-gnuplot") << "\nset multiplot layout " << rows
+         << ",2\n";
   column = 3;
   for (const PlotSpec* plot : present) {
     script << "set title " << quoted(plot->title) << "\nset ylabel " << quoted(yLabel(plot)) << "\nplot "

@@ -18,9 +18,9 @@ namespace sdfccd::cli {
 
 /// Sizes and places of the plots.
 struct RunPlotSettings {
-  int width = 900;         ///< pixels of one plot
-  int height = 420;        ///< pixels of one plot
-  std::string outputDir;   ///< default RUN_DIR/plots
+  int width = 900;        ///< pixels of one plot
+  int height = 420;       ///< pixels of one plot
+  std::string outputDir;  ///< default RUN_DIR/plots
 };
 
 /// What writeRunPlots made.

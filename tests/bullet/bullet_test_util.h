@@ -8,6 +8,8 @@
 namespace sdfccd::test {
 
 /// A scene from JSON text (paths relative to the assets folder).
-inline Scene sceneFromText(const std::string& text) { return parseScene(text, "test", SDFCCD_ASSETS_DIR); }
+inline Scene sceneFromText(const std::string& text) {
+  return parseScene(text, "test", SDFCCD_ASSETS_DIR);
+}
 
 }  // namespace sdfccd::test

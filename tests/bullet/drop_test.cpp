@@ -1,8 +1,7 @@
 // Bodies dropped on the ground come to rest at the analytic height: the contact height minus the
 // penetration where the penalty forces carry the weight (Section 4.1), within a fraction of a cell.
-#include <gtest/gtest.h>
-
 #include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 
@@ -50,7 +49,10 @@ TEST(Drop, SphereRestsAtAnalyticHeight) {
   SceneWorld world(scene);
   for (int f = 0; f < scene.frames; ++f) {
     world.step();
-    if (getenv("DBG") && f % 10 == 0) printf("%d y %.5f vy %.4f contacts %d pen %.3f clamps %d\n", f, world.bodyState(0).position.y(), world.bodyState(0).linearVelocity.y(), world.lastFrame().contacts, world.lastFrame().penetrationCells, world.lastFrame().clamps);
+    if (getenv("DBG") && f % 10 == 0)
+      printf("%d y %.5f vy %.4f contacts %d pen %.3f clamps %d\n", f, world.bodyState(0).position.y(),
+             world.bodyState(0).linearVelocity.y(), world.lastFrame().contacts, world.lastFrame().penetrationCells,
+             world.lastFrame().clamps);
   }
   const double r = 0.1;
   const double n = static_cast<double>(world.model(0).shell().size());

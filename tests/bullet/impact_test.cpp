@@ -1,8 +1,7 @@
 // Fast impacts: a body shot at a thin plate tunnels with the discrete model and is stopped by the continuous
 // model with time-of-impact clamping; two free bodies collide without gravity and conserve momentum.
-#include <gtest/gtest.h>
-
 #include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
 
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"

@@ -1,10 +1,9 @@
 // The dispatcher finds our algorithm for every pair involving SdfccdShape, in both orders, for contacts and
 // closest points; other partners get no contact (and never Bullet's btSdfCollisionShape cast).
-#include <gtest/gtest.h>
-
-#include <btBulletDynamicsCommon.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
+#include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
 
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"

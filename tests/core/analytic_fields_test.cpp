@@ -1,13 +1,14 @@
 /// @file
 /// @brief PlaneField and SphereField: closed-form segment queries against hand-computed answers and dense
 /// sampling; the edge-case policy of segment_ccd.h (touching, starting inside, zero length, FirstHit, NaN).
+#include "sdfccd/analytic_fields.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <random>
 
-#include "sdfccd/analytic_fields.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd {

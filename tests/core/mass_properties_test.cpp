@@ -1,11 +1,12 @@
 // Mass properties against closed forms: a translated, rotated box and a finely tessellated sphere.
+#include "sdfccd/mass_properties.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "sdfccd/error.h"
-#include "sdfccd/mass_properties.h"
 #include "sdfccd/procedural_meshes.h"
 
 namespace sdfccd {
@@ -48,7 +49,8 @@ TriangleMesh uvSphere(double radius, int slices, int stacks) {
     const double theta = M_PI * i / stacks;
     for (int j = 0; j < slices; ++j) {
       const double phi = 2 * M_PI * j / slices;
-      m.vertices.push_back(radius * Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
+      m.vertices.push_back(radius *
+                           Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
     }
   }
   m.vertices.push_back(Vec3(0, -radius, 0));
@@ -73,9 +75,9 @@ TEST(MassProperties, AxisAlignedBoxMatchesClosedForm) {
   EXPECT_NEAR(p.mass, 3.0 * volume, 1e-12);
   EXPECT_LT(p.centerOfMassInMesh.norm(), 1e-12);
   const Vec3 size = 2 * h;
-  const Vec3 expected = p.mass / 12.0 * Vec3(size.y() * size.y() + size.z() * size.z(),
-                                             size.x() * size.x() + size.z() * size.z(),
-                                             size.x() * size.x() + size.y() * size.y());
+  const Vec3 expected = p.mass / 12.0 *
+                        Vec3(size.y() * size.y() + size.z() * size.z(), size.x() * size.x() + size.z() * size.z(),
+                             size.x() * size.x() + size.y() * size.y());
   EXPECT_LT((p.inertiaAboutCenterOfMass - Mat3(expected.asDiagonal())).norm(), 1e-10);
 }
 
@@ -88,9 +90,9 @@ TEST(MassProperties, RotatedTranslatedBoxGivenTotalMass) {
   EXPECT_NEAR(p.mass, 2.5, 1e-12);
   EXPECT_LT((p.centerOfMassInMesh - meshFromBox.translation()).norm(), 1e-10);
   const Vec3 size = 2 * h;
-  const Vec3 diag = 2.5 / 12.0 * Vec3(size.y() * size.y() + size.z() * size.z(),
-                                      size.x() * size.x() + size.z() * size.z(),
-                                      size.x() * size.x() + size.y() * size.y());
+  const Vec3 diag = 2.5 / 12.0 *
+                    Vec3(size.y() * size.y() + size.z() * size.z(), size.x() * size.x() + size.z() * size.z(),
+                         size.x() * size.x() + size.y() * size.y());
   const Mat3 expected = meshFromBox.linear() * diag.asDiagonal() * meshFromBox.linear().transpose();
   EXPECT_LT((p.inertiaAboutCenterOfMass - expected).norm(), 1e-10);
   // Principal moments are the box's, ascending; the axes diagonalize the tensor.
@@ -137,7 +139,7 @@ TEST(MassProperties, RejectsBadInput) {
   TriangleMesh inverted = unitCubeMesh();
   for (auto& t : inverted.triangles) std::swap(t[1], t[2]);
   EXPECT_THROW(computeMassProperties(inverted, byMass(1.0)), Error);
-  EXPECT_THROW(computeMassProperties(unitCubeMesh(), {}), Error);                    // no mass, no density
+  EXPECT_THROW(computeMassProperties(unitCubeMesh(), {}), Error);  // no mass, no density
   EXPECT_THROW(computeMassProperties(unitCubeMesh(), byDensity(-1.0)), Error);
   EXPECT_THROW(computeMassProperties(TriangleMesh{}, byMass(1.0)), Error);
   TriangleMesh bad = unitCubeMesh();

@@ -1,11 +1,12 @@
 // The continuous penalty model (Section 4.1) against closed forms: a point passing linearly through a plane,
 // midpoint-rule convergence with a turning normal, a torque about a known handle, damping, the discrete model.
+#include "sdfccd/penalty_model.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "sdfccd/error.h"
-#include "sdfccd/penalty_model.h"
 
 namespace sdfccd {
 namespace {
@@ -58,7 +59,7 @@ TEST(PenaltyModel, PointThroughPlaneMatchesClosedForm) {
     EXPECT_NEAR(r.impulseOnShell.y(), expected, 1e-12 * expected);
     EXPECT_NEAR(r.impulseOnShell.x(), 0.0, 1e-15);
     EXPECT_LT((r.impulseOnShell + r.impulseOnField).norm(), 1e-15);  // action = reaction
-    EXPECT_NEAR(r.forceOnShell.y(), expected / dt, 1e-9);           // eq. (5)
+    EXPECT_NEAR(r.forceOnShell.y(), expected / dt, 1e-9);            // eq. (5)
     EXPECT_EQ(r.contactCount, 1);
     EXPECT_NEAR(r.maxPenetration, b * (1.0 - 0.5 / pieces / 1.0) * 1.0, b);  // sampled, < b
     EXPECT_LT(r.maxPenetration, b);
@@ -78,7 +79,8 @@ TEST(PenaltyModel, MidpointRuleConvergesWithTurningNormal) {
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
   const double dt = 0.001;
   auto impulse = [&](int pieces) {
-    return integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, springOnly(1000.0, pieces)).impulseOnShell;
+    return integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, springOnly(1000.0, pieces))
+        .impulseOnShell;
   };
   const Vec3 reference = impulse(20000);
   const double e5 = (impulse(5) - reference).norm();

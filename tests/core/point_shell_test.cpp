@@ -1,7 +1,10 @@
 /// @file
 /// @brief Point shells: vertex normals, repulsion sampling (on the mesh, unit outward normals, evenly spread,
 /// deterministic), open meshes, shell files (round trip; bad files rejected with one clear line).
+#include "sdfccd/point_shell.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -9,11 +12,8 @@
 #include <fstream>
 #include <random>
 
-#include <unistd.h>
-
 #include "core/shell_test_util.h"
 #include "sdfccd/error.h"
-#include "sdfccd/point_shell.h"
 #include "sdfccd/procedural_meshes.h"
 
 namespace sdfccd {
@@ -218,9 +218,10 @@ TEST_F(ShellFiles, ForeignPlyWithExtraPropertiesAndFacesLoads) {
 }
 
 TEST_F(ShellFiles, BadFilesAreRejectedWithOneClearLine) {
-  const std::string header = "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
-                             "property double z\nproperty double nx\nproperty double ny\nproperty double nz\n"
-                             "end_header\n";
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
+      "property double z\nproperty double nx\nproperty double ny\nproperty double nz\n"
+      "end_header\n";
   struct Case {
     std::string name;
     std::string text;
@@ -235,8 +236,10 @@ TEST_F(ShellFiles, BadFilesAreRejectedWithOneClearLine) {
       {"extra.ply", header + "0 0 0 0 0 1\n1 1 1 0 1 0\n2 2 2 0 1 0\n", "more points"},
       {"binary.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1\nend_header\n", "ascii"},
       {"nohead.ply", "ply\nformat ascii 1.0\nelement vertex 1\n", "end_header"},
-      {"nonormal.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                       "property float z\nend_header\n0 0 0\n", "'nx'"},
+      {"nonormal.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+       "property float z\nend_header\n0 0 0\n",
+       "'nx'"},
       {"notply.ply", "hello\n", "not a PLY"},
       {"empty.ply", "", "not a PLY"},
       {"zero.csv", "x,y,z,nx,ny,nz\n", "no points"},

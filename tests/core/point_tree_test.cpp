@@ -1,6 +1,8 @@
 /// @file
 /// @brief The nested point tree: nesting, bounding, one leaf per point, breadth-first layout; degenerate
 /// shells (one point, coincident points); a 10^5-point build.
+#include "sdfccd/point_tree.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -8,7 +10,6 @@
 
 #include "core/shell_test_util.h"
 #include "sdfccd/error.h"
-#include "sdfccd/point_tree.h"
 #include "sdfccd/procedural_meshes.h"
 
 namespace sdfccd {

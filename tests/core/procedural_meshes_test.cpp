@@ -1,12 +1,13 @@
 /// @file
 /// @brief Procedural meshes are closed, consistently oriented, outward, and have the right size.
+#include "sdfccd/procedural_meshes.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/shell_test_util.h"
 #include "sdfccd/error.h"
-#include "sdfccd/procedural_meshes.h"
 
 namespace sdfccd {
 namespace {

@@ -2,6 +2,8 @@
 /// @brief Rigid CCD of point trees against fields: closed-form first hits against the plane and the sphere;
 /// tree == linear (serial and threaded) on random shells vs random grid fields and on the bunny and dragon
 /// vs their SDFs; no node is ever culled above a colliding point (brute force over every node).
+#include "sdfccd/rigid_ccd.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include "sdfccd/error.h"
 #include "sdfccd/grid_field.h"
 #include "sdfccd/procedural_meshes.h"
-#include "sdfccd/rigid_ccd.h"
 #include "sdfccd/sdf_builder.h"
 
 namespace sdfccd {
@@ -291,7 +292,8 @@ TEST(RigidCcd, IgnoredPointsAreSkipped) {
 
 TEST(RigidCcd, CullingBoundsOfGrids) {
   // An exact distance to a point sampled on a grid: steeper than 1 near the point, never above sqrt(3).
-  const auto grid = test::sampleGrid(Vec3i(9, 9, 9), Vec3::Constant(-1.0), 0.25, [](const Vec3& p) { return p.norm(); });
+  const auto grid =
+      test::sampleGrid(Vec3i(9, 9, 9), Vec3::Constant(-1.0), 0.25, [](const Vec3& p) { return p.norm(); });
   const FieldCullingBounds bounds = computeCullingBounds(*grid);
   EXPECT_TRUE(bounds.bounded);
   EXPECT_GT(bounds.lipschitz, 1.0);
@@ -335,9 +337,13 @@ void checkModel(const std::string& file, int points, int configs) {
   EXPECT_GT(contacts, 0) << file;
 }
 
-TEST(RigidCcd, BunnyShellEqualsLinearAgainstTheBunnyField) { checkModel("bunny.off", 777, 60); }
+TEST(RigidCcd, BunnyShellEqualsLinearAgainstTheBunnyField) {
+  checkModel("bunny.off", 777, 60);
+}
 
-TEST(RigidCcd, DragonShellEqualsLinearAgainstTheDragonField) { checkModel("dragon.off", 3000, 30); }
+TEST(RigidCcd, DragonShellEqualsLinearAgainstTheDragonField) {
+  checkModel("dragon.off", 3000, 30);
+}
 
 // earliestOnly: the full linear query's contacts at its minimum fraction (sorted by point, as the full ones).
 RigidCcdResult earliestOf(const RigidCcdResult& full) {

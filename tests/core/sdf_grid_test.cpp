@@ -1,5 +1,7 @@
 /// @file
 /// @brief SdfGrid: trilinear interpolation and gradient against analytic trilinear functions; validation.
+#include "sdfccd/sdf_grid.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <random>
 
 #include "sdfccd/error.h"
-#include "sdfccd/sdf_grid.h"
 
 namespace sdfccd {
 namespace {

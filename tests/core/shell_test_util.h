@@ -32,8 +32,8 @@ inline double triangleDistance(const Vec3& p, const Vec3& a, const Vec3& b, cons
   const double n2 = n.squaredNorm();
   if (n2 > 0.0) {
     const Vec3 q = p - (p - a).dot(n) / n2 * n;
-    const bool in = (b - a).cross(q - a).dot(n) >= 0.0 && (c - b).cross(q - b).dot(n) >= 0.0 &&
-                    (a - c).cross(q - c).dot(n) >= 0.0;
+    const bool in =
+        (b - a).cross(q - a).dot(n) >= 0.0 && (c - b).cross(q - b).dot(n) >= 0.0 && (a - c).cross(q - c).dot(n) >= 0.0;
     if (in) return (p - q).norm();
   }
   return std::min({segmentDistance(p, a, b), segmentDistance(p, b, c), segmentDistance(p, c, a)});

@@ -1,9 +1,10 @@
 /// @file
 /// @brief makeContactSheet and evenlySpacedFrames: layout, order, first/last frames, errors.
+#include "sdfccd/render/contact_sheet.h"
+
 #include <gtest/gtest.h>
 
 #include "sdfccd/error.h"
-#include "sdfccd/render/contact_sheet.h"
 
 namespace sdfccd::render {
 namespace {

@@ -1,5 +1,7 @@
 /// @file
 /// @brief OffscreenRenderer against analytic projections: horizon, silhouette areas, contact pixels, determinism.
+#include "sdfccd/render/offscreen_renderer.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 
 #include "render/test_meshes.h"
 #include "sdfccd/error.h"
-#include "sdfccd/render/offscreen_renderer.h"
 #include "sdfccd/render/png_file.h"
 
 namespace sdfccd::render {
@@ -22,7 +23,9 @@ void keepForInspection(const RgbImage& image, const std::string& name) {
   if (folder != nullptr) writePng(std::string(folder) + "/" + name + ".png", image);
 }
 
-bool isRed(const std::uint8_t* p) { return p[0] > p[1] + 40 && p[0] > p[2] + 40; }
+bool isRed(const std::uint8_t* p) {
+  return p[0] > p[1] + 40 && p[0] > p[2] + 40;
+}
 
 int countPixels(const RgbImage& image, bool (*predicate)(const std::uint8_t*)) {
   int count = 0;
@@ -166,9 +169,8 @@ TEST(OffscreenRenderer, BoxSilhouetteMatchesProjectedArea) {
   EXPECT_NEAR(counted, side * side, 0.01 * side * side) << "side " << side << " px";
   // Rotated 45 degrees about the view axis, the front face is the same square turned: same area.
   scene.meshes[0].worldFromBody.linear() = Eigen::AngleAxisd(kPi / 4.0, Vec3::UnitZ()).toRotationMatrix();
-  const int turned = countPixels(renderer.render(scene, settings), [](const std::uint8_t* p) {
-    return p[0] + p[1] + p[2] > 0;
-  });
+  const int turned =
+      countPixels(renderer.render(scene, settings), [](const std::uint8_t* p) { return p[0] + p[1] + p[2] > 0; });
   EXPECT_NEAR(turned, side * side, 0.015 * side * side);
 }
 

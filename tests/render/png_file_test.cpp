@@ -1,5 +1,7 @@
 /// @file
 /// @brief writePng / readPng: exact round trip, atomic output, clear errors for unwritable folders and bad files.
+#include "sdfccd/render/png_file.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -7,14 +9,13 @@
 #include <fstream>
 
 #include "sdfccd/error.h"
-#include "sdfccd/render/png_file.h"
 
 namespace sdfccd::render {
 namespace {
 
 std::filesystem::path scratchFolder(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() /
-                      ("sdfccd_render_test_" + std::to_string(::getpid()) + "_" + name);
+  const auto folder =
+      std::filesystem::temp_directory_path() / ("sdfccd_render_test_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
   return folder;

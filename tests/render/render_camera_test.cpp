@@ -1,9 +1,10 @@
 /// @file
 /// @brief RenderCamera: the pixel projection agrees with the GL matrices; framing fits boxes; bad cameras fail.
+#include "sdfccd/render/render_camera.h"
+
 #include <gtest/gtest.h>
 
 #include "sdfccd/error.h"
-#include "sdfccd/render/render_camera.h"
 
 namespace sdfccd::render {
 namespace {
@@ -42,7 +43,8 @@ TEST(RenderCamera, FramingFitsEveryCornerWithItsMargin) {
     const int width = static_cast<int>(aspect * height);
     double largest = 0.0;  // how close a corner comes to the border, in fractions of the half-size
     for (int corner = 0; corner < 8; ++corner) {
-      const PixelProjection p = projectToPixel(camera, box.corner(static_cast<Box3::CornerType>(corner)), width, height);
+      const PixelProjection p =
+          projectToPixel(camera, box.corner(static_cast<Box3::CornerType>(corner)), width, height);
       ASSERT_TRUE(p.inImage) << "aspect " << aspect << " corner " << corner;
       largest = std::max(largest, std::abs(p.pixel.x() - width / 2.0) / (width / 2.0));
       largest = std::max(largest, std::abs(p.pixel.y() - height / 2.0) / (height / 2.0));

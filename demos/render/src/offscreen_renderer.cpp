@@ -23,9 +23,9 @@ constexpr int kMaxRenderSide = 8192;  // pixels, after supersampling (llvmpipe a
 struct GpuMesh {
   std::weak_ptr<const TriangleMesh> owner;  // detects a freed mesh whose address is reused
   Shading shading = Shading::Smooth;
-  std::vector<float> positions;             // 3 per vertex
-  std::vector<float> normals;               // 3 per vertex
-  std::vector<unsigned> indices;            // smooth shading only
+  std::vector<float> positions;   // 3 per vertex
+  std::vector<float> normals;     // 3 per vertex
+  std::vector<unsigned> indices;  // smooth shading only
 };
 
 GpuMesh convertMesh(const std::shared_ptr<const TriangleMesh>& mesh, Shading shading) {
@@ -129,7 +129,9 @@ Box3 contentBounds(const RenderScene& scene) {
   return box;
 }
 
-void glColor(const Color& c) { glColor3f(c.x(), c.y(), c.z()); }
+void glColor(const Color& c) {
+  glColor3f(c.x(), c.y(), c.z());
+}
 
 }  // namespace
 
@@ -171,8 +173,8 @@ RenderCamera OffscreenRenderer::cameraFor(const RenderScene& scene, const Render
     const Box3 box = worldBounds(body);
     for (int corner = 0; corner < 8; ++corner) points.push_back(box.corner(static_cast<Box3::CornerType>(corner)));
   }
-  for (const RenderPointSet& set : scene.pointSets) points.insert(points.end(), set.pointsInWorld.begin(),
-                                                                   set.pointsInWorld.end());
+  for (const RenderPointSet& set : scene.pointSets)
+    points.insert(points.end(), set.pointsInWorld.begin(), set.pointsInWorld.end());
   if (scene.ground) {
     const std::size_t count = points.size();
     for (std::size_t i = 0; i < count; ++i) points.emplace_back(points[i].x(), scene.ground->height, points[i].z());
@@ -201,8 +203,8 @@ RgbImage OffscreenRenderer::render(const RenderScene& scene, const RenderSetting
   // its grid and the clip range stay put from frame to frame while bodies move. `viewScale` is the half-height
   // of the view at the target; the ground square reaches far beyond it (its edge then sits on the horizon).
   const double eyeToTarget = (camera.eye - camera.target).norm();
-  const double viewScale = std::max(eyeToTarget * std::tan(0.5 * camera.fovDegrees * 3.14159265358979323846 / 180.0),
-                                    1e-3);
+  const double viewScale =
+      std::max(eyeToTarget * std::tan(0.5 * camera.fovDegrees * 3.14159265358979323846 / 180.0), 1e-3);
   const double groundHalf = 400.0 * viewScale;
   const Vec3 groundCentre(camera.target.x(), 0.0, camera.target.z());
   double farDistance = eyeToTarget + 1.5 * groundHalf;
@@ -228,8 +230,7 @@ RgbImage OffscreenRenderer::render(const RenderScene& scene, const RenderSetting
   glShadeModel(settings.shading == Shading::Flat ? GL_FLAT : GL_SMOOTH);
 
   glMatrixMode(GL_PROJECTION);
-  const Eigen::Matrix4d projection =
-      camera.projection(static_cast<double>(width) / height, nearDistance, farDistance);
+  const Eigen::Matrix4d projection = camera.projection(static_cast<double>(width) / height, nearDistance, farDistance);
   glLoadMatrixd(projection.data());  // Eigen is column-major, as GL expects
   glMatrixMode(GL_MODELVIEW);
   glLoadIdentity();

@@ -13,9 +13,13 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double degreesToRadians(double degrees) { return degrees * kPi / 180.0; }
+double degreesToRadians(double degrees) {
+  return degrees * kPi / 180.0;
+}
 
-bool isFinite(const Vec3& v) { return v.allFinite(); }
+bool isFinite(const Vec3& v) {
+  return v.allFinite();
+}
 
 }  // namespace
 
@@ -33,9 +37,9 @@ void RenderCamera::validate() const {
 
 Rigid RenderCamera::viewFromWorld() const {
   validate();
-  const Vec3 back = (eye - target).normalized();        // camera +z (it looks down -z)
-  const Vec3 right = up.cross(back).normalized();        // camera +x
-  const Vec3 cameraUp = back.cross(right);               // camera +y
+  const Vec3 back = (eye - target).normalized();   // camera +z (it looks down -z)
+  const Vec3 right = up.cross(back).normalized();  // camera +x
+  const Vec3 cameraUp = back.cross(right);         // camera +y
   Mat3 worldFromViewRotation;
   worldFromViewRotation.col(0) = right;
   worldFromViewRotation.col(1) = cameraUp;
@@ -70,8 +74,8 @@ PixelProjection projectToPixel(const RenderCamera& camera, const Vec3& pointInWo
   const double ndcY = f * pointInView.y() / result.depth;
   // Viewport transform; image rows run downwards while GL window rows run upwards.
   result.pixel = Eigen::Vector2d(0.5 * (ndcX + 1.0) * width, 0.5 * (1.0 - ndcY) * height);
-  result.inImage = result.pixel.x() >= 0.0 && result.pixel.x() < width && result.pixel.y() >= 0.0 &&
-                   result.pixel.y() < height;
+  result.inImage =
+      result.pixel.x() >= 0.0 && result.pixel.x() < width && result.pixel.y() >= 0.0 && result.pixel.y() < height;
   return result;
 }
 
@@ -140,7 +144,8 @@ RenderCamera framePoints(const std::vector<Vec3>& pointsInWorld, double aspect, 
 RenderCamera frameBox(const Box3& worldBox, double aspect, const CameraFramingSettings& settings) {
   std::vector<Vec3> corners;
   if (!worldBox.isEmpty()) {
-    for (int corner = 0; corner < 8; ++corner) corners.push_back(worldBox.corner(static_cast<Box3::CornerType>(corner)));
+    for (int corner = 0; corner < 8; ++corner)
+      corners.push_back(worldBox.corner(static_cast<Box3::CornerType>(corner)));
   }
   return framePoints(corners, aspect, settings);
 }

@@ -22,7 +22,9 @@ bool finiteInput(const Vec3& p0, const Vec3& p1, double sigma) {
   return p0.allFinite() && p1.allFinite() && std::isfinite(sigma);
 }
 
-double clamp01(double t) { return std::min(1.0, std::max(0.0, t)); }
+double clamp01(double t) {
+  return std::min(1.0, std::max(0.0, t));
+}
 
 }  // namespace
 

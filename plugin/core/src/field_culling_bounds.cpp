@@ -38,8 +38,8 @@ FieldCullingBounds computeCullingBounds(const SdfGrid& grid) {
     for (int j = 0; j + 1 < n.y(); ++j) {
       for (int i = 0; i + 1 < n.x(); ++i) {
         const std::size_t base = grid.index(i, j, k);
-        const double c[8] = {v[base],           v[base + sx],           v[base + sy],      v[base + sx + sy],
-                             v[base + sz],      v[base + sx + sz],      v[base + sy + sz], v[base + sx + sy + sz]};
+        const double c[8] = {v[base],      v[base + sx],      v[base + sy],      v[base + sx + sy],
+                             v[base + sz], v[base + sx + sz], v[base + sy + sz], v[base + sx + sy + sz]};
         const double gx = std::max(std::max(std::abs(c[1] - c[0]), std::abs(c[3] - c[2])),
                                    std::max(std::abs(c[5] - c[4]), std::abs(c[7] - c[6])));
         const double gy = std::max(std::max(std::abs(c[2] - c[0]), std::abs(c[3] - c[1])),

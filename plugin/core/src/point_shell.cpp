@@ -407,7 +407,8 @@ PointShell sampleShell(const TriangleMesh& mesh, const ShellSamplingSettings& se
   checkMesh(mesh, "sampleShell");
   if (settings.points < 1) throw Error("sampleShell: the number of points must be at least 1");
   if (settings.iterations < 0 || settings.iterations > 100000) throw Error("sampleShell: iterations out of range");
-  if (!(settings.stepScale > 0.0) || !(settings.stepScale <= 1.0)) throw Error("sampleShell: stepScale must be in (0, 1]");
+  if (!(settings.stepScale > 0.0) || !(settings.stepScale <= 1.0))
+    throw Error("sampleShell: stepScale must be in (0, 1]");
 
   Box3 bounds;
   for (const auto& v : mesh.vertices) bounds.extend(v);
@@ -452,7 +453,8 @@ PointShell sampleShell(const TriangleMesh& mesh, const ShellSamplingSettings& se
     const int f = pickFace(rng);
     const double s = std::sqrt(unit(rng));
     const double r2 = unit(rng);
-    positions[n] = (1.0 - s) * surface.vertex(f, 0) + s * (1.0 - r2) * surface.vertex(f, 1) + s * r2 * surface.vertex(f, 2);
+    positions[n] =
+        (1.0 - s) * surface.vertex(f, 0) + s * (1.0 - r2) * surface.vertex(f, 1) + s * r2 * surface.vertex(f, 2);
     onFace[n] = f;
   }
 

@@ -95,11 +95,11 @@ TriangleMesh makeIcosphere(double radius, int subdivisions) {
   if (subdivisions < 0 || subdivisions > 8) throw Error("makeIcosphere: subdivisions must be in [0, 8]");
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   TriangleMesh mesh;
-  mesh.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  mesh.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                    {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  mesh.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  mesh.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (auto& v : mesh.vertices) v.normalize();
   for (int s = 0; s < subdivisions; ++s) {
     std::map<std::pair<int, int>, int> midpoints;
@@ -145,8 +145,7 @@ TriangleMesh makeLathedBowl(const LathedBowlSettings& s) {
     if (!(v > 0.0) || !std::isfinite(v)) throw Error("makeLathedBowl: sizes must be positive and finite");
   }
   if (s.segments < 3 || s.profileSamples < 2) throw Error("makeLathedBowl: at least 3 segments and 2 profile samples");
-  if (s.footRadius <= s.wall || s.footRadius + 2.0 * s.wall >= s.rimRadius ||
-      s.footHeight + 3.0 * s.wall >= s.height) {
+  if (s.footRadius <= s.wall || s.footRadius + 2.0 * s.wall >= s.rimRadius || s.footHeight + 3.0 * s.wall >= s.height) {
     throw Error("makeLathedBowl: the wall is too thick or the foot too large for the bowl");
   }
   const double yb = -0.5 * s.height;                // bottom of the foot ring

@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/math_types.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/math_types.h"
 #include "sdfccd/penalty_model.h"
 
 namespace sdfccd {
 
 /// A procedural body shape (procedural_meshes.h), instead of a mesh file.
 struct ScenePrimitive {
-  std::string type;                       ///< "box", "sphere", "cylinder" or "bowl"
+  std::string type;                        ///< "box", "sphere", "cylinder" or "bowl"
   Vec3 halfExtents = Vec3::Constant(0.5);  ///< box (model units)
   double radius = 0.5;                     ///< sphere, cylinder; the bowl's rim radius
   double height = 1.0;                     ///< cylinder; the bowl's height
@@ -34,27 +34,27 @@ struct ScenePrimitive {
 
 struct SceneBody {
   std::string name;
-  std::string mesh;                        ///< resolved path of the mesh file; empty for a primitive
+  std::string mesh;  ///< resolved path of the mesh file; empty for a primitive
   std::optional<ScenePrimitive> primitive;
-  std::string sdf;                         ///< optional precomputed field (with "shell"), resolved path
-  std::string shell;                       ///< optional precomputed shell, resolved path
-  double scale = 1.0;                      ///< uniform scale of the mesh
-  double mass = 1.0;                       ///< kg (ignored for static bodies)
-  Vec3 position = Vec3::Zero();            ///< of the centre of mass, world (m)
-  Quat orientation = Quat::Identity();     ///< of the mesh's own axes, world
-  Vec3 velocity = Vec3::Zero();            ///< m/s, of the centre of mass
-  Vec3 angularVelocity = Vec3::Zero();     ///< rad/s, world
+  std::string sdf;                      ///< optional precomputed field (with "shell"), resolved path
+  std::string shell;                    ///< optional precomputed shell, resolved path
+  double scale = 1.0;                   ///< uniform scale of the mesh
+  double mass = 1.0;                    ///< kg (ignored for static bodies)
+  Vec3 position = Vec3::Zero();         ///< of the centre of mass, world (m)
+  Quat orientation = Quat::Identity();  ///< of the mesh's own axes, world
+  Vec3 velocity = Vec3::Zero();         ///< m/s, of the centre of mass
+  Vec3 angularVelocity = Vec3::Zero();  ///< rad/s, world
   bool isStatic = false;
-  int points = 0;                          ///< shell points (0: mesh vertices)
-  int resolution = 64;                     ///< SDF cells along the longest side
-  int padding = 4;                         ///< SDF padding cells
+  int points = 0;       ///< shell points (0: mesh vertices)
+  int resolution = 64;  ///< SDF cells along the longest side
+  int padding = 4;      ///< SDF padding cells
 };
 
 struct SceneContact {
   PenaltyModel model = PenaltyModel::Continuous;
-  double stiffness = 2000.0;   ///< N/m per point
-  double damping = 5.0;        ///< N s/m per point (used only with the "damping" effect)
-  double friction = 0.5;       ///< Coulomb coefficient (used only with the "friction" effect; beyond the paper)
+  double stiffness = 2000.0;  ///< N/m per point
+  double damping = 5.0;       ///< N s/m per point (used only with the "damping" effect)
+  double friction = 0.5;      ///< Coulomb coefficient (used only with the "friction" effect; beyond the paper)
   int subintervals = 5;
   bool timeOfImpactClamp = true;  ///< continuous model only
   double toiDepthCells = 0.5;
@@ -63,14 +63,14 @@ struct SceneContact {
 };
 
 struct Scene {
-  std::string path;            ///< the file it came from ("" when parsed from text)
+  std::string path;  ///< the file it came from ("" when parsed from text)
   std::string name;
-  double timestep = 0.001;     ///< s
-  int frames = 1000;           ///< steps of `timestep`
+  double timestep = 0.001;           ///< s
+  int frames = 1000;                 ///< steps of `timestep`
   Vec3 gravity = Vec3(0, -9.81, 0);  ///< m/s^2, used only with the "gravity" effect
   std::set<std::string> effects;
-  double groundHeight = 0.0;   ///< m, used only with the "ground" effect
-  bool sleeping = true;        ///< bodies at rest may sleep (Bullet's thresholds); false: always simulated
+  double groundHeight = 0.0;  ///< m, used only with the "ground" effect
+  bool sleeping = true;       ///< bodies at rest may sleep (Bullet's thresholds); false: always simulated
   SceneContact contact;
   std::vector<SceneBody> bodies;
 

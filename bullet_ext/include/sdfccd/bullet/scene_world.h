@@ -30,17 +30,17 @@ namespace sdfccd {
 
 /// Options of SceneWorld that do not belong in the scene file.
 struct SceneWorldSettings {
-  std::string cacheDir;                      ///< body model cache for mesh files ("" = none)
-  int threads = 0;                           ///< threads for building fields and shells (0 = all)
-  std::optional<PenaltyModel> model;         ///< overrides contact.model
-  std::optional<double> timestep;            ///< overrides timestep (s)
-  std::optional<double> stiffness;           ///< overrides contact.stiffness (N/m)
-  std::optional<bool> timeOfImpactClamp;     ///< overrides contact.toi_clamp
-  std::optional<bool> useTree;               ///< overrides contact.tree
+  std::string cacheDir;                          ///< body model cache for mesh files ("" = none)
+  int threads = 0;                               ///< threads for building fields and shells (0 = all)
+  std::optional<PenaltyModel> model;             ///< overrides contact.model
+  std::optional<double> timestep;                ///< overrides timestep (s)
+  std::optional<double> stiffness;               ///< overrides contact.stiffness (N/m)
+  std::optional<bool> timeOfImpactClamp;         ///< overrides contact.toi_clamp
+  std::optional<bool> useTree;                   ///< overrides contact.tree
   std::optional<SdfccdForceTiming> forceTiming;  ///< overrides contact.force_timing
-  int shadowLinearEvery = 0;                 ///< see SdfccdContactSettings::shadowLinearEvery
-  bool allowSleeping = true;                 ///< false: bodies never deactivate (benchmarks time every frame)
-  ProgressCallback buildProgress;            ///< fraction of the model builds done
+  int shadowLinearEvery = 0;                     ///< see SdfccdContactSettings::shadowLinearEvery
+  bool allowSleeping = true;                     ///< false: bodies never deactivate (benchmarks time every frame)
+  ProgressCallback buildProgress;                ///< fraction of the model builds done
 };
 
 /// A body's state at its centre of mass.
@@ -53,12 +53,12 @@ struct SceneBodyState {
 
 /// What happened in the last frame.
 struct SceneFrameStats {
-  double time = 0.0;               ///< s, at the end of the frame
-  int contacts = 0;                ///< shell points in contact
-  double penetrationCells = 0.0;   ///< largest penetration (cells)
-  double ccdSeconds = 0.0;         ///< wall time in CCD queries (s)
-  double stepSeconds = 0.0;        ///< wall time of the whole Bullet step (s)
-  int clamps = 0;                  ///< bodies moved back to a time of impact
+  double time = 0.0;              ///< s, at the end of the frame
+  int contacts = 0;               ///< shell points in contact
+  double penetrationCells = 0.0;  ///< largest penetration (cells)
+  double ccdSeconds = 0.0;        ///< wall time in CCD queries (s)
+  double stepSeconds = 0.0;       ///< wall time of the whole Bullet step (s)
+  int clamps = 0;                 ///< bodies moved back to a time of impact
 };
 
 class SceneWorld {

@@ -9,9 +9,9 @@
 ///
 /// Frames: the model's *body frame* is the frame Bullet simulates (centre of mass at the origin, axes along
 /// the principal axes of inertia unless the mesh's own axes already are principal). The mesh and the shell
-/// are stored in the body frame, the field too when built here (see bodyFromField()); `modelFromBody` maps body coordinates back to the mesh file's
-/// coordinates (after scaling), so a scene's pose of the mesh is worldFromModel = worldFromBody *
-/// modelFromBody^-1.
+/// are stored in the body frame, the field too when built here (see bodyFromField()); `modelFromBody` maps body
+/// coordinates back to the mesh file's coordinates (after scaling), so a scene's pose of the mesh is worldFromModel =
+/// worldFromBody * modelFromBody^-1.
 ///
 /// Uniform scaling is baked in at build time (settings.scale): the field and the shell are built from the
 /// scaled mesh and the cache key includes the scale. The Bullet shape rejects setLocalScaling.
@@ -36,12 +36,12 @@ namespace sdfccd {
 
 /// How a model is built from a mesh.
 struct SdfccdBodyModelSettings {
-  int resolution = 128;     ///< SDF cells along the longest side of the mesh's box
-  int padding = 4;          ///< SDF cells added around the mesh's box on every side
-  int points = 0;           ///< shell points by particle repulsion; 0: the mesh's vertices
-  double scale = 1.0;       ///< uniform scale applied to the mesh first (> 0)
-  int threads = 0;          ///< worker threads of the builds (0: all cores)
-  std::string cacheDir;     ///< buildFromMeshFile's cache folder; empty: no cache
+  int resolution = 128;       ///< SDF cells along the longest side of the mesh's box
+  int padding = 4;            ///< SDF cells added around the mesh's box on every side
+  int points = 0;             ///< shell points by particle repulsion; 0: the mesh's vertices
+  double scale = 1.0;         ///< uniform scale applied to the mesh first (> 0)
+  int threads = 0;            ///< worker threads of the builds (0: all cores)
+  std::string cacheDir;       ///< buildFromMeshFile's cache folder; empty: no cache
   ProgressCallback progress;  ///< optional, fraction of the SDF build done
 };
 

@@ -18,8 +18,7 @@ class SdfccdContactSystem;
 class SdfccdCollisionAlgorithm : public btCollisionAlgorithm {
  public:
   SdfccdCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* wrap0,
-                           const btCollisionObjectWrapper* wrap1, SdfccdContactSystem* system,
-                           bool closestPointsOnly);
+                           const btCollisionObjectWrapper* wrap1, SdfccdContactSystem* system, bool closestPointsOnly);
   ~SdfccdCollisionAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,

@@ -74,12 +74,12 @@ enum class SdfccdForceTiming : std::uint8_t {
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
   SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< see SdfccdForceTiming
-  PenaltySettings penalty;            ///< model (continuous/discrete), stiffness, damping, subintervals, flags
-  bool timeOfImpactClamp = true;      ///< continuous model only: clamp bodies at first hits (see file comment)
-  double toiDepthCells = 0.5;         ///< clamp when an entering point ends deeper than this (field cells)
-  bool useTree = true;                ///< point tree (true) or point by point (the linear baseline)
+  PenaltySettings penalty;               ///< model (continuous/discrete), stiffness, damping, subintervals, flags
+  bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
+  double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)
+  bool useTree = true;                   ///< point tree (true) or point by point (the linear baseline)
   OctreeMode octree = OctreeMode::Full;  ///< cell skipping in grid fields
-  int maxManifoldPoints = 4;          ///< manifold points reported per pair (0..4)
+  int maxManifoldPoints = 4;             ///< manifold points reported per pair (0..4)
   /// Benchmarks: every n-th step (n > 0) each query is repeated point by point (useTree = false), result
   /// discarded, and timed into SdfccdContactStatistics::shadowLinearSeconds (paper Table 4: linear vs tree
   /// on the very same motion). 0: off.
@@ -103,16 +103,16 @@ struct SdfccdPairContact {
 
 /// Counters, cumulative since construction or resetStatistics().
 struct SdfccdContactStatistics {
-  double ccdSeconds = 0.0;             ///< CPU time of the calling thread in rigid CCD queries (s), all fields
-  double groundCcdSeconds = 0.0;       ///< the part of ccdSeconds spent against static planes (s)
-  double shadowLinearSeconds = 0.0;    ///< point-by-point repeats (shadowLinearEvery), between bodies only (s)
-  std::int64_t shadowSteps = 0;        ///< steps in which the repeats ran
-  double penaltySeconds = 0.0;         ///< wall time integrating the penalty model (s)
-  std::int64_t ccdQueries = 0;         ///< rigid CCD queries (two per body pair and step)
-  std::int64_t segmentQueries = 0;     ///< segment queries inside them
-  std::int64_t clamps = 0;             ///< bodies moved back to a time of impact
-  std::int64_t unsupportedPairs = 0;   ///< processPair calls for pairs we do not handle (no contact)
-  double maxPenetrationCells = 0.0;    ///< largest penetration seen (cells)
+  double ccdSeconds = 0.0;            ///< CPU time of the calling thread in rigid CCD queries (s), all fields
+  double groundCcdSeconds = 0.0;      ///< the part of ccdSeconds spent against static planes (s)
+  double shadowLinearSeconds = 0.0;   ///< point-by-point repeats (shadowLinearEvery), between bodies only (s)
+  std::int64_t shadowSteps = 0;       ///< steps in which the repeats ran
+  double penaltySeconds = 0.0;        ///< wall time integrating the penalty model (s)
+  std::int64_t ccdQueries = 0;        ///< rigid CCD queries (two per body pair and step)
+  std::int64_t segmentQueries = 0;    ///< segment queries inside them
+  std::int64_t clamps = 0;            ///< bodies moved back to a time of impact
+  std::int64_t unsupportedPairs = 0;  ///< processPair calls for pairs we do not handle (no contact)
+  double maxPenetrationCells = 0.0;   ///< largest penetration seen (cells)
 };
 
 class SdfccdContactSystem : public btActionInterface {

@@ -37,19 +37,27 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
   /// Throws sdfccd::Error if `model` is null.
   explicit SdfccdShape(std::shared_ptr<const SdfccdBodyModel> model);
 
-  const SdfccdBodyModel& model() const { return *m_model; }
-  const std::shared_ptr<const SdfccdBodyModel>& modelPtr() const { return m_model; }
+  const SdfccdBodyModel& model() const {
+    return *m_model;
+  }
+  const std::shared_ptr<const SdfccdBodyModel>& modelPtr() const {
+    return m_model;
+  }
 
   void getAabb(const btTransform& worldFromBody, btVector3& aabbMin, btVector3& aabbMax) const override;
   /// Throws sdfccd::Error unless `scaling` is (1, 1, 1): scale the model instead.
   void setLocalScaling(const btVector3& scaling) override;
-  const btVector3& getLocalScaling() const override { return m_localScaling; }
+  const btVector3& getLocalScaling() const override {
+    return m_localScaling;
+  }
   /// The principal moments of the mesh's solid for `mass` (the body frame is the principal frame).
-  void calculateLocalInertia(btScalar mass, btVector3& inertia) const override;
-  const char* getName() const override { return "SdfccdShape"; }
+  void calculateLocalInertia(btScalar mass, btVector3 & inertia) const override;
+  const char* getName() const override {
+    return "SdfccdShape";
+  }
   /// The mesh triangles whose box overlaps [aabbMin, aabbMax] (body frame): ray tests, sweeps, debug draw.
-  void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin,
-                           const btVector3& aabbMax) const override;
+  void processAllTriangles(btTriangleCallback * callback, const btVector3& aabbMin, const btVector3& aabbMax)
+      const override;
 
  private:
   std::shared_ptr<const SdfccdBodyModel> m_model;

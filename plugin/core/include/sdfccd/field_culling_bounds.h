@@ -26,10 +26,10 @@
 namespace sdfccd {
 
 struct FieldCullingBounds {
-  double lipschitz = 1.0;   ///< bound on |grad phi| wherever the segment query sees the field
-  bool bounded = false;     ///< true: no contact outside `box`
-  Box3 box;                 ///< the field's box, field frame (bounded only)
-  double boundaryMin = 0.0; ///< lower bound of phi on the box faces (model units; bounded only)
+  double lipschitz = 1.0;    ///< bound on |grad phi| wherever the segment query sees the field
+  bool bounded = false;      ///< true: no contact outside `box`
+  Box3 box;                  ///< the field's box, field frame (bounded only)
+  double boundaryMin = 0.0;  ///< lower bound of phi on the box faces (model units; bounded only)
 };
 
 /// The bounds of a grid (computed in one pass over the cells, not cached).
@@ -37,8 +37,12 @@ FieldCullingBounds computeCullingBounds(const SdfGrid& grid);
 
 /// The bounds of a grid field (cached per grid).
 FieldCullingBounds fieldCullingBounds(const GridField& field);
-inline FieldCullingBounds fieldCullingBounds(const PlaneField&) { return {}; }
-inline FieldCullingBounds fieldCullingBounds(const SphereField&) { return {}; }
+inline FieldCullingBounds fieldCullingBounds(const PlaneField&) {
+  return {};
+}
+inline FieldCullingBounds fieldCullingBounds(const SphereField&) {
+  return {};
+}
 /// Any other field type: the paper's assumption (1-Lipschitz, defined everywhere).
 template <class Field>
 FieldCullingBounds fieldCullingBounds(const Field&) {

@@ -23,9 +23,9 @@ struct MassPropertiesSettings {
 
 /// The mass properties of a solid.
 struct MassProperties {
-  double volume = 0.0;                       ///< model units^3
-  double mass = 0.0;                         ///< kg
-  Vec3 centerOfMassInMesh = Vec3::Zero();    ///< centre of mass in the mesh's frame (model units)
+  double volume = 0.0;                           ///< model units^3
+  double mass = 0.0;                             ///< kg
+  Vec3 centerOfMassInMesh = Vec3::Zero();        ///< centre of mass in the mesh's frame (model units)
   Mat3 inertiaAboutCenterOfMass = Mat3::Zero();  ///< inertia tensor about the COM, mesh axes (kg m^2)
   Mat3 principalAxesInMesh = Mat3::Identity();   ///< columns: principal axes (a rotation, det = +1)
   Vec3 principalMoments = Vec3::Zero();          ///< diagonal inertia in the principal axes (kg m^2), ascending

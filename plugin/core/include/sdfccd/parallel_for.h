@@ -17,7 +17,9 @@
 namespace sdfccd {
 
 /// Number of worker threads to use when the caller passes 0: the hardware concurrency (at least 1).
-inline int defaultThreadCount() { return std::max(1u, std::thread::hardware_concurrency()); }
+inline int defaultThreadCount() {
+  return std::max(1u, std::thread::hardware_concurrency());
+}
 
 /// Calls body(index, threadId) for every index in [0, count), on `threads` threads (0: all cores).
 /// threadId is in [0, threads). The first exception thrown by a body is rethrown after all threads stop.

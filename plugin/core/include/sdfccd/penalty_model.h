@@ -43,29 +43,29 @@ enum class PenaltyModel : std::uint8_t {
 /// Settings of the penalty model.
 struct PenaltySettings {
   PenaltyModel model = PenaltyModel::Continuous;
-  double stiffness = 2000.0;  ///< k, N/m (per point)
-  double damping = 0.0;       ///< c, N s/m (per point)
-  int subintervals = 5;       ///< midpoint-rule pieces per contact sub-interval (paper: 5)
-  bool enableDamping = true;  ///< integrate damping impulses (needs damping > 0 as well)
-  bool enableRotation = true; ///< integrate angular impulses (torques)
+  double stiffness = 2000.0;   ///< k, N/m (per point)
+  double damping = 0.0;        ///< c, N s/m (per point)
+  int subintervals = 5;        ///< midpoint-rule pieces per contact sub-interval (paper: 5)
+  bool enableDamping = true;   ///< integrate damping impulses (needs damping > 0 as well)
+  bool enableRotation = true;  ///< integrate angular impulses (torques)
   /// Beyond the paper: regularized Coulomb friction, |F_t| = mu |F_n| min(1, |v_t| / frictionSlipSpeed),
   /// opposing the tangential velocity of the point relative to the field body. Evaluated only when
   /// enableFriction is set and friction > 0.
   bool enableFriction = false;
-  double friction = 0.0;             ///< mu, Coulomb coefficient (dimensionless)
-  double frictionSlipSpeed = 0.01;   ///< m/s; below it friction is viscous (keeps the explicit step stable)
-  double sigma = 0.0;         ///< contact level set (model units); the CCD must use the same value
+  double friction = 0.0;            ///< mu, Coulomb coefficient (dimensionless)
+  double frictionSlipSpeed = 0.01;  ///< m/s; below it friction is viscous (keeps the explicit step stable)
+  double sigma = 0.0;               ///< contact level set (model units); the CCD must use the same value
 };
 
 /// The motion of one body during the step. Velocities are linear in t between start and end.
 struct PenaltyBodyMotion {
   Rigid worldFromBodyStart = Rigid::Identity();
   Rigid worldFromBodyEnd = Rigid::Identity();
-  Vec3 centerOfMassInBody = Vec3::Zero();       ///< model units
-  Vec3 linearVelocityStart = Vec3::Zero();      ///< velocity of the centre of mass, world (m/s)
-  Vec3 linearVelocityEnd = Vec3::Zero();        ///< m/s
-  Vec3 angularVelocityStart = Vec3::Zero();     ///< world (rad/s)
-  Vec3 angularVelocityEnd = Vec3::Zero();       ///< rad/s
+  Vec3 centerOfMassInBody = Vec3::Zero();    ///< model units
+  Vec3 linearVelocityStart = Vec3::Zero();   ///< velocity of the centre of mass, world (m/s)
+  Vec3 linearVelocityEnd = Vec3::Zero();     ///< m/s
+  Vec3 angularVelocityStart = Vec3::Zero();  ///< world (rad/s)
+  Vec3 angularVelocityEnd = Vec3::Zero();    ///< rad/s
 
   /// A body that does not move (a static ground, a fixed obstacle).
   static PenaltyBodyMotion fixed(const Rigid& worldFromBody) {
@@ -100,7 +100,9 @@ struct PenaltyPointPath {
   Vec3 handleFieldStart, handleFieldEnd;      // world, from the field body's COM to the point
 };
 
-inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) { return a + t * (b - a); }
+inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
+  return a + t * (b - a);
+}
 
 /// Adds the force at fraction t, weighted by `weight` seconds, to `io`. Returns the depth d (model units).
 template <class Field>
@@ -126,9 +128,8 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
   if (needVelocity) {
     const Vec3 velocityShell = lerp(shell.linearVelocityStart, shell.linearVelocityEnd, t) +
                                lerp(shell.angularVelocityStart, shell.angularVelocityEnd, t).cross(handleShell);
-    const Vec3 velocityField =
-        lerp(fieldBody.linearVelocityStart, fieldBody.linearVelocityEnd, t) +
-        lerp(fieldBody.angularVelocityStart, fieldBody.angularVelocityEnd, t).cross(handleField);
+    const Vec3 velocityField = lerp(fieldBody.linearVelocityStart, fieldBody.linearVelocityEnd, t) +
+                               lerp(fieldBody.angularVelocityStart, fieldBody.angularVelocityEnd, t).cross(handleField);
     relativeVelocity = velocityShell - velocityField;
   }
   if (useDamping) {
@@ -191,7 +192,8 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
         pointsInShell[static_cast<std::size_t>(contact.point)], contact.pointNormalInShell, shell, fieldBody);
     bool pushed = false;
     if (settings.model == PenaltyModel::Discrete) {
-      pushed = detail::addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, useDamping, useFriction, result) < 0.0;
+      pushed = detail::addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, useDamping, useFriction,
+                                        result) < 0.0;
     } else {
       for (std::size_t i = 0; i < contact.intervals.size(); ++i) {
         const Interval& interval = contact.intervals[i];

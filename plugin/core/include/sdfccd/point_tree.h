@@ -26,8 +26,8 @@ namespace sdfccd {
 
 /// Settings of the tree build.
 struct PointTreeSettings {
-  int branching = 8;         ///< children per inner node (>= 2)
-  int refinements = 2;       ///< medoid refinements of each split (0: farthest-point seeds only)
+  int branching = 8;    ///< children per inner node (>= 2)
+  int refinements = 2;  ///< medoid refinements of each split (0: farthest-point seeds only)
 };
 
 class PointTree {
@@ -46,11 +46,11 @@ class PointTree {
   int levelBegin(int level) const { return m_levelBegin[level]; }
 
   // Per node, breadth-first order (root = 0):
-  const Vec3& center(int node) const { return m_center[node]; }   ///< the node's point, shell frame
-  double radius(int node) const { return m_radius[node]; }         ///< bounds the subtree (model units)
-  int point(int node) const { return m_nodePoint[node]; }          ///< shell index of the node's point
-  int firstChild(int node) const { return m_firstChild[node]; }    ///< -1 for leaves
-  int childCount(int node) const { return m_childCount[node]; }    ///< 0 for leaves
+  const Vec3& center(int node) const { return m_center[node]; }  ///< the node's point, shell frame
+  double radius(int node) const { return m_radius[node]; }       ///< bounds the subtree (model units)
+  int point(int node) const { return m_nodePoint[node]; }        ///< shell index of the node's point
+  int firstChild(int node) const { return m_firstChild[node]; }  ///< -1 for leaves
+  int childCount(int node) const { return m_childCount[node]; }  ///< 0 for leaves
   bool isLeaf(int node) const { return m_childCount[node] == 0; }
   /// The leaf of shell point p.
   int leafOf(int point) const { return m_leafOfPoint[point]; }

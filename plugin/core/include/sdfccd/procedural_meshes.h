@@ -23,13 +23,13 @@ TriangleMesh makeCylinder(double radius, double height, int segments = 32);
 
 /// Shape of the lathed bowl (model units).
 struct LathedBowlSettings {
-  double rimRadius = 1.0;     ///< outer radius at the rim
-  double height = 0.6;        ///< from the bottom of the foot to the rim
-  double wall = 0.06;         ///< wall thickness
-  double footRadius = 0.4;    ///< outer radius of the foot ring
-  double footHeight = 0.06;   ///< height of the foot ring
-  int segments = 64;          ///< divisions around the axis
-  int profileSamples = 24;    ///< divisions along the curved outer (and inner) wall
+  double rimRadius = 1.0;    ///< outer radius at the rim
+  double height = 0.6;       ///< from the bottom of the foot to the rim
+  double wall = 0.06;        ///< wall thickness
+  double footRadius = 0.4;   ///< outer radius of the foot ring
+  double footHeight = 0.06;  ///< height of the foot ring
+  int segments = 64;         ///< divisions around the axis
+  int profileSamples = 24;   ///< divisions along the curved outer (and inner) wall
 };
 
 /// A china bowl revolved about y: a foot ring, a rounded outer wall, a rounded rim and an inner wall, closed at

@@ -19,8 +19,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sdfccd/math_types.h"
 #include "sdfccd/field_culling_bounds.h"
+#include "sdfccd/math_types.h"
 #include "sdfccd/point_tree.h"
 #include "sdfccd/segment_ccd.h"
 
@@ -28,12 +28,12 @@ namespace sdfccd {
 
 /// Settings of one rigid CCD query.
 struct RigidCcdSettings {
-  double sigma = 0.0;                        ///< contact level set (field units); 0 = the surface
-  CcdMethod method = CcdMethod::Exact;       ///< root finding per cell
-  CcdMode mode = CcdMode::AllIntervals;      ///< what leaves compute: first hit only, or every interval
-  OctreeMode octree = OctreeMode::Full;      ///< cell skipping in grid fields
-  bool useTree = true;                       ///< false: point by point (the linear baseline)
-  int threads = 1;                           ///< worker threads (0: all cores); results identical to serial
+  double sigma = 0.0;                    ///< contact level set (field units); 0 = the surface
+  CcdMethod method = CcdMethod::Exact;   ///< root finding per cell
+  CcdMode mode = CcdMode::AllIntervals;  ///< what leaves compute: first hit only, or every interval
+  OctreeMode octree = OctreeMode::Full;  ///< cell skipping in grid fields
+  bool useTree = true;                   ///< false: point by point (the linear baseline)
+  int threads = 1;                       ///< worker threads (0: all cores); results identical to serial
   /// Optional, one byte per shell point: points with a non-zero entry are skipped (the constraint method
   /// ignores the points in contact in the last step, Section 4.2). Null: no point is skipped.
   const std::vector<std::uint8_t>* ignoredPoints = nullptr;
@@ -52,13 +52,13 @@ struct RigidCcdSettings {
 
 /// One shell point in contact during the step.
 struct PointContact {
-  int point = -1;                              ///< index into the shell
-  SegmentState state = SegmentState::Hit;      ///< Hit or StartsInside
-  double fraction = 1.0;                       ///< first contact, fraction of the step in [0, 1]
-  IntervalList intervals;                      ///< AllIntervals mode: where phi <= sigma
-  double depthAtEnd = 0.0;                     ///< phi(p1) - sigma (field units; < 0 penetrating at the end)
-  Vec3 fieldNormalInSdf = Vec3::Zero();        ///< normalized field gradient at the first contact, field frame
-  Vec3 pointNormalInShell = Vec3::Zero();      ///< the point's outward normal, shell frame
+  int point = -1;                          ///< index into the shell
+  SegmentState state = SegmentState::Hit;  ///< Hit or StartsInside
+  double fraction = 1.0;                   ///< first contact, fraction of the step in [0, 1]
+  IntervalList intervals;                  ///< AllIntervals mode: where phi <= sigma
+  double depthAtEnd = 0.0;                 ///< phi(p1) - sigma (field units; < 0 penetrating at the end)
+  Vec3 fieldNormalInSdf = Vec3::Zero();    ///< normalized field gradient at the first contact, field frame
+  Vec3 pointNormalInShell = Vec3::Zero();  ///< the point's outward normal, shell frame
 };
 
 /// Counters of one query (for benchmarks and reports).

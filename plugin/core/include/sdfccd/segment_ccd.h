@@ -53,19 +53,19 @@ enum class SegmentState : std::uint8_t {
 
 /// Settings of one query.
 struct SegmentCcdSettings {
-  double sigma = 0.0;                     ///< level set value (model units); a node radius in the point tree
-  CcdMethod method = CcdMethod::Exact;    ///< root finding per cell
-  CcdMode mode = CcdMode::FirstHit;       ///< first contact only, or every interval
-  OctreeMode octree = OctreeMode::Full;   ///< cell skipping (grid fields only)
+  double sigma = 0.0;                    ///< level set value (model units); a node radius in the point tree
+  CcdMethod method = CcdMethod::Exact;   ///< root finding per cell
+  CcdMode mode = CcdMode::FirstHit;      ///< first contact only, or every interval
+  OctreeMode octree = OctreeMode::Full;  ///< cell skipping (grid fields only)
 };
 
 /// The answer to one query.
 struct SegmentCcdResult {
   SegmentState state = SegmentState::Separated;
-  double fraction = 1.0;     ///< first t in [0,1] with phi <= sigma; 1 when there is none
-  IntervalList intervals;    ///< AllIntervals mode: sorted, disjoint, merged [a, b] where phi <= sigma
+  double fraction = 1.0;       ///< first t in [0,1] with phi <= sigma; 1 when there is none
+  IntervalList intervals;      ///< AllIntervals mode: sorted, disjoint, merged [a, b] where phi <= sigma
   Vec3 normal = Vec3::Zero();  ///< at the first contact: normalized field gradient (zero if undefined)
-  double depth = 0.0;        ///< at the first contact: phi - sigma (0 at a crossing, < 0 when starting inside)
+  double depth = 0.0;          ///< at the first contact: phi - sigma (0 at a crossing, < 0 when starting inside)
 
   bool hit() const { return state == SegmentState::Hit || state == SegmentState::StartsInside; }
 };

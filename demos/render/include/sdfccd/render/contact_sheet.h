@@ -10,9 +10,9 @@ namespace sdfccd::render {
 
 /// Layout of a contact sheet.
 struct ContactSheetSettings {
-  int columns = 0;                                  ///< 0 = ceil(sqrt(number of frames))
-  int padding = 4;                                  ///< pixels between and around frames
-  std::uint8_t background[3] = {40, 40, 44};        ///< colour between frames
+  int columns = 0;                            ///< 0 = ceil(sqrt(number of frames))
+  int padding = 4;                            ///< pixels between and around frames
+  std::uint8_t background[3] = {40, 40, 44};  ///< colour between frames
 };
 
 /// Which of `frameCount` frames a sheet of `cells` cells shows: evenly spaced, first and last included, in order

@@ -26,12 +26,12 @@ enum class Shading { Flat, Smooth };
 
 /// Image size and look of one render.
 struct RenderSettings {
-  int width = 960;                                 ///< output pixels (1..8192)
-  int height = 540;                                ///< output pixels (1..8192)
-  int supersample = 2;                             ///< anti-aliasing factor (1 = none; width*factor <= 8192)
+  int width = 960;      ///< output pixels (1..8192)
+  int height = 540;     ///< output pixels (1..8192)
+  int supersample = 2;  ///< anti-aliasing factor (1 = none; width*factor <= 8192)
   Shading shading = Shading::Smooth;
   Color background = Color(0.92f, 0.94f, 0.97f);  ///< sky colour
-  CameraFramingSettings framing;                   ///< used when the scene has no camera
+  CameraFramingSettings framing;                  ///< used when the scene has no camera
 };
 
 /// Renders scenes offscreen. Creating it creates an OSMesa context (throws sdfccd::Error if OSMesa fails).

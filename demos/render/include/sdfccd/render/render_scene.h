@@ -24,11 +24,11 @@ using Color = Eigen::Vector3f;
 
 /// One body: a shared mesh drawn at `worldFromBody` after a uniform scale about the body origin.
 struct RenderMesh {
-  std::string name;                           ///< shown in error messages
-  std::shared_ptr<const TriangleMesh> mesh;   ///< the body's mesh in body coordinates (model units); not null
-  Rigid worldFromBody = Rigid::Identity();    ///< the body's pose (m)
-  double scale = 1.0;                         ///< uniform scale applied in body coordinates before the pose (> 0)
-  Color color = Color(0.80f, 0.55f, 0.35f);   ///< diffuse colour
+  std::string name;                          ///< shown in error messages
+  std::shared_ptr<const TriangleMesh> mesh;  ///< the body's mesh in body coordinates (model units); not null
+  Rigid worldFromBody = Rigid::Identity();   ///< the body's pose (m)
+  double scale = 1.0;                        ///< uniform scale applied in body coordinates before the pose (> 0)
+  Color color = Color(0.80f, 0.55f, 0.35f);  ///< diffuse colour
 };
 
 /// A point set (e.g. a body's point shell) in world coordinates, coloured by depth.
@@ -37,19 +37,19 @@ struct RenderMesh {
 /// drawn on a yellow (shallow) to red (at `maxDepth` and beyond) ramp, bigger, and (by default) on top of
 /// everything so a contact hidden inside a body still shows where it is.
 struct RenderPointSet {
-  std::vector<Vec3> pointsInWorld;             ///< positions (m)
-  std::vector<double> depths;                  ///< empty, or one penetration depth per point (m; > 0 = contact)
-  double maxDepth = 0.0;                       ///< depth shown fully red (m); 0 = the largest depth in the set
-  Color color = Color(0.25f, 0.45f, 0.95f);   ///< colour of points that are not in contact
-  float pointSize = 3.0f;                      ///< diameter of a point (pixels of the output image)
-  float contactPointSize = 6.0f;               ///< diameter of a contact point (pixels of the output image)
-  bool contactsOnTop = true;                   ///< draw contacts without depth test (visible through bodies)
+  std::vector<Vec3> pointsInWorld;           ///< positions (m)
+  std::vector<double> depths;                ///< empty, or one penetration depth per point (m; > 0 = contact)
+  double maxDepth = 0.0;                     ///< depth shown fully red (m); 0 = the largest depth in the set
+  Color color = Color(0.25f, 0.45f, 0.95f);  ///< colour of points that are not in contact
+  float pointSize = 3.0f;                    ///< diameter of a point (pixels of the output image)
+  float contactPointSize = 6.0f;             ///< diameter of a contact point (pixels of the output image)
+  bool contactsOnTop = true;                 ///< draw contacts without depth test (visible through bodies)
 };
 
 /// The ground: the plane y = height, drawn as a finite square with a grid around the bodies.
 struct RenderGround {
-  double height = 0.0;                         ///< y of the plane (m)
-  double gridSpacing = 0.0;                    ///< distance between grid lines (m); 0 = chosen from the scene size
+  double height = 0.0;       ///< y of the plane (m)
+  double gridSpacing = 0.0;  ///< distance between grid lines (m); 0 = chosen from the scene size
   Color color = Color(0.78f, 0.80f, 0.78f);
   Color lineColor = Color(0.45f, 0.47f, 0.45f);
 };
@@ -57,9 +57,9 @@ struct RenderGround {
 /// Everything one frame shows.
 struct RenderScene {
   std::vector<RenderMesh> meshes;
-  std::optional<RenderGround> ground;          ///< no ground drawn when empty
+  std::optional<RenderGround> ground;  ///< no ground drawn when empty
   std::vector<RenderPointSet> pointSets;
-  std::optional<RenderCamera> camera;          ///< explicit camera; empty = automatic framing
+  std::optional<RenderCamera> camera;  ///< explicit camera; empty = automatic framing
 };
 
 /// The colour of a point with penetration `depth` (m): `base` when depth <= 0, else a ramp from yellow (shallow)

@@ -20,9 +20,7 @@ struct RgbImage {
   bool empty() const { return width <= 0 || height <= 0; }
   /// Pointer to the 3 bytes of pixel (x, y); no bounds check.
   std::uint8_t* at(int x, int y) { return pixels.data() + 3 * (static_cast<std::size_t>(y) * width + x); }
-  const std::uint8_t* at(int x, int y) const {
-    return pixels.data() + 3 * (static_cast<std::size_t>(y) * width + x);
-  }
+  const std::uint8_t* at(int x, int y) const { return pixels.data() + 3 * (static_cast<std::size_t>(y) * width + x); }
 };
 
 /// Averages `factor` x `factor` blocks (supersampling anti-aliasing). `image` dimensions must be multiples of
