@@ -290,7 +290,10 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     m_stats.shadowLinearSeconds += threadCpuSeconds() - shadowStart;
   }
   m_stats.ccdSeconds += ccdSeconds;
-  if constexpr (std::is_same_v<Field, PlaneField>) m_stats.groundCcdSeconds += ccdSeconds;
+  if constexpr (std::is_same_v<Field, PlaneField>) {
+    m_stats.groundCcdSeconds += ccdSeconds;
+    ++m_stats.groundCcdQueries;
+  }
   ++m_stats.ccdQueries;
   m_stats.segmentQueries += m_scratch.stats.segmentQueries;
   if (m_scratch.contacts.empty()) return;
@@ -337,6 +340,10 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   record.penalty =
       integratePenalty(model.shell().positions, field, m_scratch, shell.motion, fieldMotion, timeStep, penaltySettings);
   m_stats.penaltySeconds += seconds(penaltyStart);
+  m_stats.penaltySamples += record.penalty.samples;
+  m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
+  m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
+  m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
   record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
   record.firstFraction = m_scratch.firstFraction;
 

@@ -113,6 +113,12 @@ struct SdfccdContactStatistics {
   std::int64_t clamps = 0;            ///< bodies moved back to a time of impact
   std::int64_t unsupportedPairs = 0;  ///< processPair calls for pairs we do not handle (no contact)
   double maxPenetrationCells = 0.0;   ///< largest penetration seen (cells)
+  // Work counters: what each effect cost (zero when a scene does not ask for the effect).
+  std::int64_t groundCcdQueries = 0;     ///< rigid CCD queries against static planes (the "ground" effect)
+  std::int64_t penaltySamples = 0;       ///< penalty force samples in contact (PenaltyResult::samples)
+  std::int64_t dampingEvaluations = 0;   ///< of them, with the damping term ("damping")
+  std::int64_t torqueEvaluations = 0;    ///< of them, with torques ("rotation")
+  std::int64_t frictionEvaluations = 0;  ///< of them, with friction ("friction")
 };
 
 class SdfccdContactSystem : public btActionInterface {

@@ -88,6 +88,12 @@ struct PenaltyResult {
   Vec3 torqueOnField = Vec3::Zero();          ///< N m
   double maxPenetration = 0.0;                ///< largest -d seen at a sample (model units, >= 0)
   int contactCount = 0;                       ///< points that produced a force
+  /// Work counters (the report's proof that an effect not asked for costs nothing): samples in contact, and
+  /// of them those that evaluated the damping term, the torques, the friction term.
+  std::int64_t samples = 0;
+  std::int64_t dampingEvaluations = 0;
+  std::int64_t torqueEvaluations = 0;
+  std::int64_t frictionEvaluations = 0;
 };
 
 namespace detail {
@@ -115,6 +121,7 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
   const double normalLength = normal.norm();
   if (!(normalLength > 0.0)) return depth;  // the normal turned half a turn during the step: no direction
   normal /= normalLength;
+  ++io.samples;
   double magnitude = -settings.stiffness * depth;  // N
   const bool needVelocity = useDamping || useFriction;
   const bool needHandles = needVelocity || settings.enableRotation;
@@ -133,11 +140,13 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
     relativeVelocity = velocityShell - velocityField;
   }
   if (useDamping) {
+    ++io.dampingEvaluations;
     const double approachSpeed = relativeVelocity.dot(normal);  // m/s, > 0 approaching
     magnitude = std::max(0.0, magnitude + settings.damping * approachSpeed);
   }
   Vec3 impulseOnField = (weight * magnitude) * normal;
   if (useFriction) {
+    ++io.frictionEvaluations;
     // The field body drags the shell's point backwards: on the field, the force follows the slip.
     const Vec3 slip = relativeVelocity - relativeVelocity.dot(normal) * normal;
     const double slipSpeed = slip.norm();
@@ -149,6 +158,7 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
   io.impulseOnField += impulseOnField;
   io.impulseOnShell -= impulseOnField;
   if (settings.enableRotation) {
+    ++io.torqueEvaluations;
     io.angularImpulseOnField += handleField.cross(impulseOnField);
     io.angularImpulseOnShell -= handleShell.cross(impulseOnField);
   }
