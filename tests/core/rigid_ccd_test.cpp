@@ -4,6 +4,7 @@
 /// vs their SDFs; no node is ever culled above a colliding point (brute force over every node).
 #include "sdfccd/rigid_ccd.h"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -374,6 +375,26 @@ RigidCcdResult checkEarliest(const PointTree& tree, const Field& field, const Ri
   EXPECT_LE(treeResult.stats.segmentQueries, full.stats.segmentQueries + tree.nodeCount()) << what;
   s.threads = 2;
   expectSameContacts(expected, run(tree, field, a, b, s), what + " earliest tree, 2 threads");
+  // earliestOneContact: the same fraction, bit for bit, and exactly one of the tied contacts.
+  s.earliestOneContact = true;
+  for (const bool useTree : {false, true}) {
+    s.useTree = useTree;
+    const std::string label = what + (useTree ? " one contact, tree" : " one contact, linear");
+    const RigidCcdResult one = run(tree, field, a, b, s);
+    EXPECT_EQ(one.firstFraction, expected.firstFraction) << label;
+    EXPECT_EQ(one.contacts.size(), expected.contacts.empty() ? 0u : 1u) << label;
+    if (one.contacts.size() != 1 || expected.contacts.empty()) continue;
+    const auto tied = std::find_if(expected.contacts.begin(), expected.contacts.end(),
+                                   [&](const PointContact& c) { return c.point == one.contacts[0].point; });
+    EXPECT_NE(tied, expected.contacts.end()) << label << ": the witness is not one of the earliest contacts";
+    if (tied == expected.contacts.end()) continue;
+    RigidCcdResult witness;
+    witness.contacts.push_back(*tied);
+    witness.firstFraction = expected.firstFraction;
+    expectSameContacts(witness, one, label);
+    EXPECT_LE(one.stats.segmentQueries, treeResult.stats.segmentQueries + (useTree ? 0 : tree.pointCount()))
+        << label;
+  }
   return full;
 }
 

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "core/segment_reference.h"
+#include "sdfccd/analytic_fields.h"
 #include "sdfccd/error.h"
 #include "sdfccd/grid_field.h"
 
@@ -484,6 +485,47 @@ TEST(SegmentCcd, AllOctreeModesGiveIdenticalAnswers) {
     }
   }
   EXPECT_GT(hits, 1000);
+}
+
+// maxFraction: a first hit at or before it is found (at the full walk's fraction up to rounding); a later one
+// is no contact. Grid, plane and sphere fields alike.
+template <class Field>
+int checkMaxFraction(const Field& field, const Box3& box, std::uint32_t seed, const std::string& what) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int cut = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const Vec3 p0 = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 p1 = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    SegmentCcdSettings settings;
+    settings.sigma = n % 3 == 0 ? 0.05 : 0.0;
+    const SegmentCcdResult full = field.intersectSegment(p0, p1, settings);
+    settings.maxFraction = n % 5 == 0 ? 0.0 : u(rng);
+    const SegmentCcdResult part = field.intersectSegment(p0, p1, settings);
+    const std::string where = what + ": " + describe(p0, p1, settings.sigma);
+    if (full.hit() && full.fraction <= settings.maxFraction - 1e-12) {
+      EXPECT_TRUE(part.hit()) << where;
+      EXPECT_EQ(part.state, full.state) << where;
+      EXPECT_NEAR(part.fraction, full.fraction, 1e-12) << where;
+    } else if (!full.hit() || full.fraction > settings.maxFraction + 1e-12) {
+      EXPECT_FALSE(part.hit()) << where;
+      cut += full.hit() ? 1 : 0;
+    }
+    // AllIntervals ignores maxFraction.
+    settings.mode = CcdMode::AllIntervals;
+    const SegmentCcdResult all = field.intersectSegment(p0, p1, settings);
+    EXPECT_EQ(all.fraction, full.fraction) << where;
+  }
+  return cut;
+}
+
+TEST(SegmentCcd, MaxFractionFindsEarlierHitsAndDropsLaterOnes) {
+  const GridField grid(bumpyGrid());
+  const Box3 box = grid.grid().box();
+  const Box3 around(box.center() - box.sizes(), box.center() + box.sizes());
+  EXPECT_GT(checkMaxFraction(grid, around, 5, "grid"), 100);
+  EXPECT_GT(checkMaxFraction(PlaneField(Vec3(0.2, 1.0, 0.1), 0.3), around, 6, "plane"), 100);
+  EXPECT_GT(checkMaxFraction(SphereField(box.center(), 0.4), around, 7, "sphere"), 30);
 }
 
 }  // namespace

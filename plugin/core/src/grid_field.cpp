@@ -91,6 +91,13 @@ void GridField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const
     outResult.state = SegmentState::OutsideField;
     return;
   }
+  if (settings.mode == CcdMode::FirstHit && settings.maxFraction < tEnd) {
+    tEnd = settings.maxFraction;
+    if (!(tBegin <= tEnd)) {
+      outResult.state = SegmentState::Separated;  // in the box only after maxFraction
+      return;
+    }
+  }
 
   detail::WalkContext context;
   context.values = grid.values().data();

@@ -45,9 +45,18 @@ struct RigidCcdSettings {
   /// Only the earliest contact of the body (the time of impact): outResult.firstFraction and the contact(s) at
   /// that fraction (every point whose first contact is exactly firstFraction), bit-identical to the minimum of
   /// the full query's contacts. The tree is searched best-first (branch and bound): a node whose inflated
-  /// first hit comes after the best contact found so far is pruned. This mode always runs serially (threads
-  /// is ignored), so it is trivially identical for any thread count.
+  /// first hit comes after the best contact found so far is pruned, and once a contact is known every node
+  /// and point is tested only up to it (SegmentCcdSettings::maxFraction; a point that hits there is queried
+  /// again over the whole step, so its fraction is the linear query's bit for bit). The linear traversal uses
+  /// the same bound point by point. This mode always runs serially (threads is ignored), so it is trivially
+  /// identical for any thread count.
   bool earliestOnly = false;
+  /// With earliestOnly: one contact at the earliest fraction is enough (a time-of-impact solver needs the time
+  /// and one witness). The search stops as soon as no node can beat the best contact, instead of collecting
+  /// every point tied at it: outResult.contacts holds exactly one contact when there is one (which one of
+  /// several tied points is unspecified), and firstFraction is still bit-identical to the full query's.
+  /// Bodies that start interpenetrated (many points tied at fraction 0) end after the first such point.
+  bool earliestOneContact = false;
 };
 
 /// One shell point in contact during the step.

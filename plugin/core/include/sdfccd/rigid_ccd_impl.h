@@ -60,6 +60,9 @@ inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box) {
   return true;
 }
 
+/// Margin on fractions of the step where a search is cut short, against rounding of the shorter walk.
+constexpr double kFractionSlack = 1e-9;
+
 template <class Field>
 class RigidCcdQuery {
  public:
@@ -99,10 +102,11 @@ class RigidCcdQuery {
 
   bool ignored(int point) const { return m_settings.ignoredPoints && (*m_settings.ignoredPoints)[point] != 0; }
 
-  /// The culling test of inner node `node` (see field_culling_bounds.h) on the part [tStart, 1] of the step.
+  /// The culling test of inner node `node` (see field_culling_bounds.h) on the part [tStart, tLimit] of the
+  /// step (tLimit < 1: the earliest-contact search needs nothing later than its best contact).
   /// When it may collide, `outFirst` is a fraction before which no point below the node touches.
-  bool nodeMayCollide(int node, double tStart, SegmentCcdResult& scratch, RigidCcdStats& stats,
-                      double& outFirst) const {
+  bool nodeMayCollide(int node, double tStart, SegmentCcdResult& scratch, RigidCcdStats& stats, double& outFirst,
+                      double tLimit = 1.0) const {
     outFirst = tStart;
     const Vec3& c = m_tree.center(node);
     const Vec3 cStart = startOf(c);
@@ -120,14 +124,19 @@ class RigidCcdQuery {
       }
     }
     const double sigmaNode = m_settings.sigma + reach;
+    // The part of [c0, c1] up to tLimit, as a fraction of [c0, c1] (with a margin against rounding).
+    const double reachFraction =
+        tLimit >= 1.0 ? 1.0 : std::min(1.0, (tLimit - tStart) / (1.0 - tStart) + kFractionSlack);
     // Lipschitz early-out (short steps, the simulation case): phi along the segment stays above
     // phi(c0) - lipschitz * |c1 - c0|, on the part inside the box when c0 is (the box is convex).
     if (!m_bounds.bounded || m_bounds.box.contains(c0)) {
-      const double lowest = m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * (1.0 + 1e-9);
+      const double lowest =
+          m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * reachFraction * (1.0 + 1e-9);
       if (lowest > sigmaNode) return false;
     }
     SegmentCcdSettings nodeSettings = m_node;
     nodeSettings.sigma = sigmaNode;
+    nodeSettings.maxFraction = reachFraction;
     ++stats.segmentQueries;
     m_field.intersectSegment(c0, c1, nodeSettings, scratch);
     if (!scratch.hit()) return false;
@@ -135,6 +144,19 @@ class RigidCcdQuery {
     // returned above). The margin keeps rounding on the safe side.
     outFirst = std::max(tStart, tStart + scratch.fraction * (1.0 - tStart) - 1e-9);
     return true;
+  }
+
+  /// Can point `point` touch at or before fraction `tLimit`? (Exact roots on the segment's first part only: never
+  /// false for a point whose full query touches by then.)
+  bool pointMayTouchBy(int point, double tLimit, SegmentCcdResult& scratch, RigidCcdStats& stats) const {
+    const Vec3& x = m_tree.shell().positions[point];
+    SegmentCcdSettings settings = m_leaf;
+    settings.mode = CcdMode::FirstHit;
+    settings.method = CcdMethod::Exact;
+    settings.maxFraction = std::min(1.0, tLimit + kFractionSlack);
+    ++stats.segmentQueries;
+    m_field.intersectSegment(startOf(x), endOf(x), settings, scratch);
+    return scratch.hit();
   }
 
   /// The query of one point; appends a contact when it touches.
@@ -184,9 +206,12 @@ class RigidCcdQuery {
     }
   }
 
-  /// earliestOnly: keeps in `out.contacts` only the contacts at the smallest fraction seen so far.
+  /// earliestOnly: keeps in `out.contacts` only the contacts at the smallest fraction seen so far (one of them
+  /// with earliestOneContact). Once a contact is known, a point is first tested up to it only, and queried over
+  /// the whole step (as the linear traversal does) only when it touches by then.
   void keepEarliest(int point, SegmentCcdResult& scratch, std::vector<PointContact>& candidate, bool& found,
                     double& best, RigidCcdResult& out) const {
+    if (found && !pointMayTouchBy(point, best, scratch, out.stats)) return;
     candidate.clear();
     queryPoint(point, scratch, candidate, out.stats);
     if (candidate.empty()) return;
@@ -195,8 +220,15 @@ class RigidCcdQuery {
       out.contacts.clear();
       best = contact.fraction;
       found = true;
+    } else if (m_settings.earliestOneContact) {
+      return;  // a tie adds nothing
     }
     if (contact.fraction == best) out.contacts.push_back(std::move(contact));
+  }
+
+  /// earliestOnly: can nothing starting at `bound` improve on the best contact?
+  bool cannotImprove(bool found, double best, double bound) const {
+    return found && (bound > best || (m_settings.earliestOneContact && bound >= best));
   }
 
   /// earliestOnly, serial. Tree: best-first search on the nodes' lower bounds (the fraction before which no
@@ -211,14 +243,16 @@ class RigidCcdQuery {
     double best = 1.0;
     if (!m_settings.useTree) {
       for (int p = 0; p < m_tree.pointCount(); ++p) {
+        if (cannotImprove(found, best, 0.0)) break;  // one contact at fraction 0 is enough
         if (!ignored(p)) keepEarliest(p, scratch.segment, candidate, found, best, out);
       }
     } else {
       const int* firstChild = m_tree.firstChildren().data();
       const int* childCount = m_tree.childCounts().data();
-      // A min-heap on the bound (ties by node index, for a deterministic order).
+      // A min-heap on the bound; ties go deepest first (the larger breadth-first index), which reaches a leaf
+      // and so a first best contact sooner, and keeps the order deterministic.
       const auto later = [](const NodeTask& a, const NodeTask& b) {
-        return a.tStart > b.tStart || (a.tStart == b.tStart && a.node > b.node);
+        return a.tStart > b.tStart || (a.tStart == b.tStart && a.node < b.node);
       };
       std::vector<NodeTask>& heap = scratch.current;
       heap.clear();
@@ -227,7 +261,7 @@ class RigidCcdQuery {
         std::pop_heap(heap.begin(), heap.end(), later);
         const NodeTask task = heap.back();
         heap.pop_back();
-        if (found && task.tStart > best) break;  // every node left starts later still
+        if (cannotImprove(found, best, task.tStart)) break;  // every node left starts later still
         const int node = task.node;
         if (childCount[node] == 0) {
           const int point = m_tree.point(node);
@@ -238,8 +272,8 @@ class RigidCcdQuery {
         }
         ++out.stats.nodesVisited;
         double first = 0.0;
-        if (!nodeMayCollide(node, task.tStart, scratch.segment, out.stats, first)) continue;
-        if (found && first > best) continue;
+        if (!nodeMayCollide(node, task.tStart, scratch.segment, out.stats, first, found ? best : 1.0)) continue;
+        if (cannotImprove(found, best, first)) continue;
         for (int c = 0; c < childCount[node]; ++c) {
           heap.push_back({firstChild[node] + c, first});
           std::push_heap(heap.begin(), heap.end(), later);

@@ -57,6 +57,11 @@ struct SegmentCcdSettings {
   CcdMethod method = CcdMethod::Exact;   ///< root finding per cell
   CcdMode mode = CcdMode::FirstHit;      ///< first contact only, or every interval
   OctreeMode octree = OctreeMode::Full;  ///< cell skipping (grid fields only)
+  /// FirstHit mode only (AllIntervals ignores it): look for a contact on [0, maxFraction] of the segment only;
+  /// a contact after it is reported as Separated. A search that can stop early (the earliest contact of a
+  /// body, branch and bound) walks fewer cells. The fraction found on the shorter walk can differ in the last
+  /// bits from the full walk's, so callers that need bit-identical answers re-run the full query on a hit.
+  double maxFraction = 1.0;
 };
 
 /// The answer to one query.
