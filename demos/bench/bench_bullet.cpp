@@ -13,8 +13,8 @@
 ///    only the penalty models differ). Under the scene's stiffness, the largest stable timestep of the
 ///    continuous and of the discrete model (paper: 3x larger for continuous); then at the continuous model's
 ///    largest stable timestep the discrete stiffness is lowered (x0.7 per try) until stable, and the two max
-///    penetrations are compared (paper: discrete 2.75x deeper). Stable = no NaN, no tunnelling and total
-///    energy (kinetic + potential) never more than 5% + 0.5 J above its start (penetration is reported).
+///    penetrations are compared (paper: discrete 2.75x deeper). "Stable": kStabilityCriterion
+///    (bullet_stability_search.h, shared with the report's `stability` section).
 #if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
 #include <btBulletDynamicsCommon.h>
 
@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bullet_stability_search.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
@@ -100,109 +101,65 @@ void runTable4(const BenchBulletOptions& o) {
               rows[2].shadowEvery, rows[2].shadowEveryQuick);
 }
 
-struct StabilityRun {
-  bool stable = false;
-  double maxPenetrationCells = 0.0;
-  std::string why;
-};
-
-StabilityRun runStability(const Scene& base, PenaltyModel model, double timestep, double stiffness, double duration,
-                          const BenchBulletOptions& o) {
-  SceneWorldSettings settings;
-  settings.cacheDir = o.cache;
-  settings.model = model;
-  settings.timestep = timestep;
-  settings.stiffness = stiffness;
-  settings.timeOfImpactClamp = false;
-  settings.forceTiming = o.forceTiming == "same_step" ? SdfccdForceTiming::SameStep : SdfccdForceTiming::NextStep;
-  SceneWorld world(base, settings);
-  const double g = -base.gravity.y();
-  auto energy = [&]() {
-    double e = world.kineticEnergy();
-    for (int i = 0; i < world.bodyCount(); ++i) {
-      if (!world.isStatic(i)) e += base.bodies[std::size_t(i)].mass * g * world.bodyState(i).position.y();
-    }
-    return e;
-  };
-  const double start = energy();
-  const int frames = static_cast<int>(std::lround(duration / timestep));
-  StabilityRun run;
-  for (int f = 0; f < frames; ++f) {
-    world.step();
-    if (world.hasNonFinite()) {
-      run.why = "NaN";
-      run.maxPenetrationCells = world.maxPenetrationCells();
-      return run;
-    }
-    if (energy() > start + 0.05 * std::abs(start) + 0.5) {
-      run.why = "energy gain";
-      run.maxPenetrationCells = world.maxPenetrationCells();
-      return run;
-    }
+// Prints the trials; CSV items are "<name>@<timestep>" (or "<name>@k<stiffness>" for a stiffness walk).
+void printTrials(const char* name, const StabilitySearch& search, bool byStiffness = false) {
+  for (const StabilityTrial& t : search.trials) {
+    std::printf("  %-10s dt %.4f s, k %8.1f: %-8s max penetration %7.2f cells %s\n", name, t.timestep, t.stiffness,
+                t.stable ? "stable" : "UNSTABLE", t.maxPenetrationCells, t.why.c_str());
+    const std::string item = std::string(name) + (byStiffness ? "_softened@k" + std::to_string(t.stiffness)
+                                                               : "@" + std::to_string(t.timestep));
+    csvRow("fig10a", item, "stable", t.stable ? 1 : 0);
+    csvRow("fig10a", item, "max_penetration_cells", t.maxPenetrationCells);
   }
-  run.maxPenetrationCells = world.maxPenetrationCells();
-  if (!world.tunneledBodies().empty()) {
-    run.why = "tunnelled";
-  } else {
-    run.stable = true;
-  }
-  return run;
 }
 
 void runFig10a(const BenchBulletOptions& o) {
   Scene base = loadScene(o.scenes + "/drop-bunnies.json");
   base.effects.erase("friction");
-  const double stiffness = base.contact.stiffness;
-  const double duration = o.quick ? 0.8 : 1.5;
+  StabilityTrialSettings trial;
+  trial.stiffness = base.contact.stiffness;
+  trial.duration = o.quick ? 0.8 : 1.5;
+  trial.cacheDir = o.cache;
+  trial.forceTiming = o.forceTiming == "same_step" ? SdfccdForceTiming::SameStep : SdfccdForceTiming::NextStep;
   const std::vector<double> timesteps =
       o.quick ? std::vector<double>{0.001, 0.002, 0.003, 0.004}
               : std::vector<double>{0.0005, 0.001, 0.0015, 0.002, 0.0025, 0.003, 0.004, 0.005, 0.006};
   std::printf(
       "\nFig. 10a: 20 bunnies, stiffness %.0f N/m per point, %.1f s simulated, force timing %s, no TOI "
-      "clamping, no friction\n",
-      stiffness, duration, o.forceTiming.c_str());
-  double largest[2] = {0.0, 0.0};
-  double penetrationAtLargest[2] = {0.0, 0.0};
+      "clamping, no friction\n%s\n",
+      trial.stiffness, trial.duration, o.forceTiming.c_str(), kStabilityCriterion);
+  StabilitySearch searches[2];
   const PenaltyModel models[2] = {PenaltyModel::Continuous, PenaltyModel::Discrete};
   const char* names[2] = {"continuous", "discrete"};
   for (int m = 0; m < 2; ++m) {
-    for (double dt : timesteps) {
-      const StabilityRun run = runStability(base, models[m], dt, stiffness, duration, o);
-      std::printf("  %-10s dt %.4f s: %-8s max penetration %7.2f cells %s\n", names[m], dt,
-                  run.stable ? "stable" : "UNSTABLE", run.maxPenetrationCells, run.why.c_str());
-      csvRow("fig10a", std::string(names[m]) + "@" + std::to_string(dt), "stable", run.stable ? 1 : 0);
-      csvRow("fig10a", std::string(names[m]) + "@" + std::to_string(dt), "max_penetration_cells",
-             run.maxPenetrationCells);
-      if (!run.stable) break;
-      largest[m] = dt;
-      penetrationAtLargest[m] = run.maxPenetrationCells;
-    }
+    trial.model = models[m];
+    searches[m] = largestStableTimestep(base, trial, timesteps);
+    printTrials(names[m], searches[m]);
   }
+  const double largest[2] = {searches[0].largest, searches[1].largest};
   std::printf("largest stable timestep: continuous %.4f s, discrete %.4f s: ratio %.2fx (paper: 3x)\n", largest[0],
               largest[1], largest[1] > 0 ? largest[0] / largest[1] : 0.0);
   csvRow("fig10a", "largest_stable_dt", "continuous", largest[0]);
   csvRow("fig10a", "largest_stable_dt", "discrete", largest[1]);
   if (largest[0] <= 0.0) return;
   // At the continuous model's largest stable timestep, soften the discrete model until it is stable.
-  double k = stiffness;
-  for (int attempt = 0; attempt < 12; ++attempt) {
-    k *= 0.7;
-    const StabilityRun run = runStability(base, PenaltyModel::Discrete, largest[0], k, duration, o);
-    std::printf("  discrete   dt %.4f s, k %8.1f: %-8s max penetration %7.2f cells %s\n", largest[0], k,
-                run.stable ? "stable" : "UNSTABLE", run.maxPenetrationCells, run.why.c_str());
-    if (run.stable) {
-      std::printf(
-          "at dt %.4f s: discrete (k %.0f) max penetration %.2f cells vs continuous (k %.0f) %.2f cells: "
-          "%.2fx deeper (paper: 2.75x)\n",
-          largest[0], k, run.maxPenetrationCells, stiffness, penetrationAtLargest[0],
-          penetrationAtLargest[0] > 0 ? run.maxPenetrationCells / penetrationAtLargest[0] : 0.0);
-      csvRow("fig10a", "softened_discrete", "stiffness", k);
-      csvRow("fig10a", "softened_discrete", "max_penetration_cells", run.maxPenetrationCells);
-      csvRow("fig10a", "continuous_at_largest_dt", "max_penetration_cells", penetrationAtLargest[0]);
-      return;
-    }
+  trial.model = PenaltyModel::Discrete;
+  trial.timestep = largest[0];
+  const StabilitySearch softened = softenUntilStable(base, trial, 0.7, 12);
+  printTrials("discrete", softened, true);
+  if (softened.largest <= 0.0) {
+    std::printf("the discrete model found no stable stiffness at dt %.4f s\n", largest[0]);
+    return;
   }
-  std::printf("the discrete model found no stable stiffness at dt %.4f s\n", largest[0]);
+  const double continuousPenetration = searches[0].penetrationAtLargest;
+  std::printf(
+      "at dt %.4f s: discrete (k %.0f) max penetration %.2f cells vs continuous (k %.0f) %.2f cells: "
+      "%.2fx deeper (paper: 2.75x)\n",
+      largest[0], softened.largest, softened.penetrationAtLargest, trial.stiffness, continuousPenetration,
+      continuousPenetration > 0 ? softened.penetrationAtLargest / continuousPenetration : 0.0);
+  csvRow("fig10a", "softened_discrete", "stiffness", softened.largest);
+  csvRow("fig10a", "softened_discrete", "max_penetration_cells", softened.penetrationAtLargest);
+  csvRow("fig10a", "continuous_at_largest_dt", "max_penetration_cells", continuousPenetration);
 }
 
 int runBenchBullet(const BenchBulletOptions& o) {

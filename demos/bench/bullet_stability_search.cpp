@@ -1,0 +1,102 @@
+/// @file
+/// @brief The stability searches of paper Fig. 10 (see bullet_stability_search.h).
+#include "bench/bullet_stability_search.h"
+
+#if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
+#include <cmath>
+#include <functional>
+
+#include "sdfccd/bullet/scene_world.h"
+
+namespace sdfccd::cli {
+
+StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSettings& s) {
+  SceneWorldSettings settings;
+  settings.cacheDir = s.cacheDir;
+  settings.model = s.model;
+  settings.timestep = s.timestep;
+  settings.stiffness = s.stiffness;
+  settings.timeOfImpactClamp = false;
+  settings.forceTiming = s.forceTiming;
+  SceneWorld world(scene, settings);
+  const double g = -scene.gravity.y();
+  auto energy = [&]() {
+    double e = world.kineticEnergy();
+    for (int i = 0; i < world.bodyCount(); ++i) {
+      if (!world.isStatic(i)) e += scene.bodies[std::size_t(i)].mass * g * world.bodyState(i).position.y();
+    }
+    return e;
+  };
+  const double start = energy();
+  const int frames = static_cast<int>(std::lround(s.duration / s.timestep));
+  StabilityTrial trial;
+  trial.timestep = s.timestep;
+  trial.stiffness = s.stiffness;
+  for (int f = 0; f < frames && trial.why.empty(); ++f) {
+    world.step();
+    if (world.hasNonFinite()) {
+      trial.why = "NaN";
+    } else if (energy() > start + 0.05 * std::abs(start) + 0.5) {
+      trial.why = "energy gain";
+    }
+  }
+  trial.maxPenetrationCells = world.maxPenetrationCells();
+  if (trial.why.empty() && !world.tunneledBodies().empty()) trial.why = "tunnelled";
+  trial.stable = trial.why.empty();
+  return trial;
+}
+
+namespace {
+
+// Runs trials for increasing values until the first unstable one.
+StabilitySearch walk(const std::vector<double>& values,
+                     const std::function<StabilityTrial(double)>& trialAt) {
+  StabilitySearch search;
+  for (const double v : values) {
+    search.trials.push_back(trialAt(v));
+    if (!search.trials.back().stable) break;
+    search.largest = v;
+    search.penetrationAtLargest = search.trials.back().maxPenetrationCells;
+  }
+  return search;
+}
+
+}  // namespace
+
+StabilitySearch largestStableTimestep(const Scene& scene, const StabilityTrialSettings& base,
+                                      const std::vector<double>& timesteps) {
+  return walk(timesteps, [&](double dt) {
+    StabilityTrialSettings s = base;
+    s.timestep = dt;
+    return runStabilityTrial(scene, s);
+  });
+}
+
+StabilitySearch largestStableStiffness(const Scene& scene, const StabilityTrialSettings& base,
+                                       const std::vector<double>& stiffnesses) {
+  return walk(stiffnesses, [&](double k) {
+    StabilityTrialSettings s = base;
+    s.stiffness = k;
+    return runStabilityTrial(scene, s);
+  });
+}
+
+StabilitySearch softenUntilStable(const Scene& scene, const StabilityTrialSettings& base, double factor,
+                                  int attempts) {
+  StabilitySearch search;
+  StabilityTrialSettings s = base;
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    s.stiffness *= factor;
+    search.trials.push_back(runStabilityTrial(scene, s));
+    if (search.trials.back().stable) {
+      search.largest = s.stiffness;
+      search.penetrationAtLargest = search.trials.back().maxPenetrationCells;
+      break;
+    }
+  }
+  return search;
+}
+
+}  // namespace sdfccd::cli
+
+#endif
