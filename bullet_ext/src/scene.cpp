@@ -258,7 +258,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.checkObject(c, "contact");
     r.checkKeys(c,
                 {"model", "stiffness", "damping", "friction", "subintervals", "toi_clamp", "toi_depth_cells", "tree",
-                 "force_timing"},
+                 "force_timing", "direction"},
                 "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
@@ -281,6 +281,14 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
       s.contact.forceTiming = SdfccdForceTiming::SameStep;
     } else {
       r.fail("contact.force_timing", "must be same_step or next_step (got '" + timing + "')");
+    }
+    const std::string direction = r.string(c, "direction", "contact");
+    if (direction == "field_gradient") {
+      s.contact.direction = PenaltyDirection::FieldGradient;
+    } else if (direction.empty() || direction == "shell_normal") {
+      s.contact.direction = PenaltyDirection::ShellNormal;
+    } else {
+      r.fail("contact.direction", "must be shell_normal or field_gradient (got '" + direction + "')");
     }
     s.contact.subintervals = r.integer(c, "subintervals", "contact", s.contact.subintervals, 1, 1000);
     s.contact.timeOfImpactClamp = r.boolean(c, "toi_clamp", "contact", s.contact.timeOfImpactClamp);

@@ -73,6 +73,53 @@ std::string modelKey(const SceneBody& b) {
   return key.str();
 }
 
+std::string vectorText(const Vec3& v) {
+  std::ostringstream text;
+  text << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return text.str();
+}
+
+/// A Scene built in code skips the parser's checks: the state that enters the world is checked here, and each
+/// defect is a one-line error naming the body and the field.
+void checkSceneState(const Scene& scene) {
+  if (!std::isfinite(scene.timestep) || !(scene.timestep > 0)) {
+    throw Error("SceneWorld: timestep must be finite and > 0 (got " + std::to_string(scene.timestep) + ")");
+  }
+  if (!scene.gravity.allFinite()) throw Error("SceneWorld: gravity is not finite " + vectorText(scene.gravity));
+  if (!std::isfinite(scene.groundHeight)) throw Error("SceneWorld: ground height is not finite");
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const SceneBody& b = scene.bodies[i];
+    const std::string who = "SceneWorld: body '" + b.name + "' (bodies[" + std::to_string(i) + "]): ";
+    if (!b.position.allFinite()) throw Error(who + "position is not finite " + vectorText(b.position));
+    if (!b.orientation.coeffs().allFinite() || !(b.orientation.norm() > 0.5)) {
+      throw Error(who + "orientation is not a finite unit quaternion");
+    }
+    if (!b.velocity.allFinite()) throw Error(who + "velocity is not finite " + vectorText(b.velocity));
+    if (!b.angularVelocity.allFinite()) {
+      throw Error(who + "angular velocity is not finite " + vectorText(b.angularVelocity));
+    }
+    if (!std::isfinite(b.scale) || !(b.scale > 0)) throw Error(who + "scale must be finite and > 0");
+    if (!b.isStatic && (!std::isfinite(b.mass) || !(b.mass > 0))) {
+      throw Error(who + "mass must be finite and > 0 (got " + std::to_string(b.mass) + ")");
+    }
+  }
+}
+
+/// The first non-finite part of a body's state that Bullet would integrate, or nullptr if all are finite.
+const char* nonFiniteState(const btRigidBody& b) {
+  const btTransform& t = b.getWorldTransform();
+  if (!toVec3(t.getOrigin()).allFinite()) return "position";
+  for (int r = 0; r < 3; ++r) {
+    if (!toVec3(t.getBasis()[r]).allFinite()) return "orientation";
+  }
+  if (!toVec3(b.getLinearVelocity()).allFinite()) return "linear velocity";
+  if (!toVec3(b.getAngularVelocity()).allFinite()) return "angular velocity";
+  if (!std::isfinite(b.getInvMass()) || !toVec3(b.getInvInertiaDiagLocal()).allFinite()) return "mass";
+  if (!toVec3(b.getTotalForce()).allFinite() || !toVec3(b.getTotalTorque()).allFinite()) return "applied force";
+  if (!toVec3(b.getGravity()).allFinite()) return "gravity";
+  return nullptr;
+}
+
 }  // namespace
 
 SdfccdContactSettings contactSettingsFor(const Scene& scene) {
@@ -85,6 +132,7 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
   s.penalty.enableRotation = scene.has("rotation");
   s.penalty.enableFriction = scene.has("friction");
   s.penalty.friction = scene.contact.friction;
+  s.penalty.direction = scene.contact.direction;
   s.forceTiming = scene.contact.forceTiming;
   s.timeOfImpactClamp = scene.contact.timeOfImpactClamp;
   s.toiDepthCells = scene.contact.toiDepthCells;
@@ -95,7 +143,9 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
 SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) : m_scene(scene) {
   if (settings.model) m_scene.contact.model = *settings.model;
   if (settings.timestep) {
-    if (!(*settings.timestep > 0) || !std::isfinite(*settings.timestep)) throw Error("timestep must be positive");
+    if (!(*settings.timestep > 0) || !std::isfinite(*settings.timestep)) {
+      throw Error("SceneWorld: timestep must be finite and > 0 (got " + std::to_string(*settings.timestep) + ")");
+    }
     m_scene.timestep = *settings.timestep;
   }
   if (settings.stiffness) {
@@ -105,6 +155,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   if (settings.timeOfImpactClamp) m_scene.contact.timeOfImpactClamp = *settings.timeOfImpactClamp;
   if (settings.useTree) m_scene.contact.useTree = *settings.useTree;
   if (settings.forceTiming) m_scene.contact.forceTiming = *settings.forceTiming;
+  checkSceneState(m_scene);
 
   // Models: one per distinct mesh + parameters.
   std::map<std::string, std::shared_ptr<const SdfccdBodyModel>> shared;
@@ -213,6 +264,14 @@ SceneWorld::~SceneWorld() {
 }
 
 void SceneWorld::step() {
+  // State set on the bodies between steps (btRigidBody setters) is checked before Bullet integrates it: a
+  // NaN or infinity would otherwise spread through contacts into other bodies and into the output.
+  for (int i = 0; i < bodyCount(); ++i) {
+    if (const char* what = nonFiniteState(*m_bodies[static_cast<std::size_t>(i)])) {
+      throw Error("SceneWorld::step: body '" + bodyName(i) + "' (bodies[" + std::to_string(i) + "]) has a non-finite " +
+                  what + " at frame " + std::to_string(m_frame));
+    }
+  }
   const double ccdBefore = m_contacts->statistics().ccdSeconds;
   const auto start = std::chrono::steady_clock::now();
   m_world->stepSimulation(btScalar(m_scene.timestep), 0);

@@ -84,6 +84,12 @@ struct SdfccdContactSystem::BodyStep {
   PenaltyBodyMotion motion;
   double clampFraction = 1.0;
   bool clamped = false;
+
+  bool finite() const {
+    return worldFromBodyStart.matrix().allFinite() && worldFromBodyEnd.matrix().allFinite() &&
+           motion.linearVelocityStart.allFinite() && motion.linearVelocityEnd.allFinite() &&
+           motion.angularVelocityStart.allFinite() && motion.angularVelocityEnd.allFinite();
+  }
 };
 
 /// One role of one pair over the current step.
@@ -225,6 +231,16 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   }
   const std::size_t index0 = static_cast<std::size_t>(&bodyStep(wrap0, timeStep) - m_bodies.data());
   const std::size_t index1 = static_cast<std::size_t>(&bodyStep(wrap1, timeStep) - m_bodies.data());
+  // A body with a non-finite state (set by the user; Bullet integrates whatever it is given) takes part in
+  // no contact: its impulses would carry the NaN into the other body.
+  if (!m_bodies[index0].finite() || !m_bodies[index1].finite()) {
+    ++m_stats.nonFinitePairs;
+    if (closestPointsOnly) {
+      m_bodies.swap(savedBodies);
+      m_bodyIndex.swap(savedIndex);
+    }
+    return;
+  }
 
   auto runRole = [&](std::size_t shell, std::size_t field, const btCollisionObjectWrapper* shellWrap,
                      const btCollisionObjectWrapper* fieldWrap, bool shellIsBody0) {
@@ -409,6 +425,7 @@ void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {
     const Vec3& impulse = side == 0 ? r.penalty.impulseOnShell : r.penalty.impulseOnField;
     const Vec3& angular = side == 0 ? r.penalty.angularImpulseOnShell : r.penalty.angularImpulseOnField;
     if (impulse.isZero(0.0) && angular.isZero(0.0)) continue;
+    if (!impulse.allFinite() || !angular.allFinite()) continue;  // never spread a NaN (see nonFinitePairs)
     body->applyCentralImpulse(toBt(impulse));
     if (!angular.isZero(0.0)) body->applyTorqueImpulse(toBt(angular));
     if (body->getActivationState() == ISLAND_SLEEPING) body->activate();

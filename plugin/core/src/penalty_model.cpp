@@ -45,6 +45,8 @@ PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& norm
   path.handleShellEnd = pointInWorldEnd - shell.worldFromBodyEnd * shell.centerOfMassInBody;
   path.handleFieldStart = pointInWorldStart - fieldBody.worldFromBodyStart * fieldBody.centerOfMassInBody;
   path.handleFieldEnd = pointInWorldEnd - fieldBody.worldFromBodyEnd * fieldBody.centerOfMassInBody;
+  path.worldFromSdfStart = fieldBody.worldFromBodyStart.linear();
+  path.worldFromSdfEnd = fieldBody.worldFromBodyEnd.linear();
   return path;
 }
 

@@ -112,6 +112,9 @@ struct SdfccdContactStatistics {
   std::int64_t segmentQueries = 0;    ///< segment queries inside them
   std::int64_t clamps = 0;            ///< bodies moved back to a time of impact
   std::int64_t unsupportedPairs = 0;  ///< processPair calls for pairs we do not handle (no contact)
+  /// processPair calls skipped because a body's pose, velocity or motion was NaN or infinite: such a body
+  /// gets no contact, so nothing non-finite reaches the other body (SceneWorld rejects it before the step).
+  std::int64_t nonFinitePairs = 0;
   double maxPenetrationCells = 0.0;   ///< largest penetration seen (cells)
   // Work counters: what each effect cost (zero when a scene does not ask for the effect).
   std::int64_t groundCcdQueries = 0;     ///< rigid CCD queries against static planes (the "ground" effect)

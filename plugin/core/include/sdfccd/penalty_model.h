@@ -13,7 +13,13 @@
 ///   sdfFromShellStart * x and sdfFromShellEnd * x (the same segment the CCD tested). Only d < 0 pushes.
 /// - N(t) is the point's outward normal in world, linearly interpolated between its start and end directions
 ///   and normalized; the force from the depth comes from the shell's normal, not the field's gradient, so it
-///   stays continuous when a point crosses the field's medial axis (Section 4.1).
+///   stays continuous when a point crosses the field's medial axis (Section 4.1). That force is not
+///   conservative: where a point's normal is not opposite the field's gradient (a shell point on a box's
+///   edge or corner resting on the ground) it pushes sideways, and a resting body drifts, spins up and can
+///   gain energy (tests/bullet/stability_test.cpp). PenaltyDirection::FieldGradient (beyond the paper) uses
+///   N(t) = -grad phi / |grad phi| at the sample instead: F = -k d grad phi is minus the gradient of the
+///   energy k d^2 / 2, so contact forces alone never add energy; the shell normal is the fallback where
+///   the gradient vanishes.
 /// - The field body receives F(t) = (k |d| + c v_n) N(t); the shell body receives -F(t). v_n is the normal
 ///   velocity of the shell's point relative to the field body's material point at the same place, positive
 ///   when approaching (along N). The total normal force is clamped at zero: damping never pulls bodies together.
@@ -27,6 +33,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sdfccd/math_types.h"
@@ -38,6 +46,12 @@ namespace sdfccd {
 enum class PenaltyModel : std::uint8_t {
   Continuous,  ///< eqs. (3)-(5) over the CCD's contact sub-intervals
   Discrete,    ///< depth at the end of the step only (the baseline of Fig. 10a)
+};
+
+/// Which direction the penalty force takes (see the file comment).
+enum class PenaltyDirection : std::uint8_t {
+  ShellNormal,    ///< the shell point's outward normal (paper, Section 4.1)
+  FieldGradient,  ///< minus the field's normalized gradient at the point: conservative (beyond the paper)
 };
 
 /// Settings of the penalty model.
@@ -55,6 +69,7 @@ struct PenaltySettings {
   double friction = 0.0;            ///< mu, Coulomb coefficient (dimensionless)
   double frictionSlipSpeed = 0.01;  ///< m/s; below it friction is viscous (keeps the explicit step stable)
   double sigma = 0.0;               ///< contact level set (model units); the CCD must use the same value
+  PenaltyDirection direction = PenaltyDirection::ShellNormal;  ///< force direction (see the file comment)
 };
 
 /// The motion of one body during the step. Velocities are linear in t between start and end.
@@ -104,7 +119,14 @@ struct PenaltyPointPath {
   Vec3 normalInWorldStart, normalInWorldEnd;  // shell's outward normal
   Vec3 handleShellStart, handleShellEnd;      // world, from the shell body's COM to the point
   Vec3 handleFieldStart, handleFieldEnd;      // world, from the field body's COM to the point
+  Mat3 worldFromSdfStart, worldFromSdfEnd;    // rotation of the field's frame (FieldGradient direction)
 };
+
+/// True when Field has `Vec3 gradient(const Vec3&) const` (FieldGradient needs it; ShellNormal does not).
+template <class Field, class = void>
+struct HasGradient : std::false_type {};
+template <class Field>
+struct HasGradient<Field, std::void_t<decltype(std::declval<const Field&>().gradient(Vec3()))>> : std::true_type {};
 
 inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
   return a + t * (b - a);
@@ -118,6 +140,13 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
   const double depth = field.distance(lerp(path.pointInSdfStart, path.pointInSdfEnd, t)) - settings.sigma;
   if (!(depth < 0.0)) return depth;
   Vec3 normal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
+  if constexpr (HasGradient<Field>::value) {
+    if (settings.direction == PenaltyDirection::FieldGradient) {
+      const Vec3 gradientInSdf = field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
+      const Vec3 away = -lerp(path.worldFromSdfStart * gradientInSdf, path.worldFromSdfEnd * gradientInSdf, t);
+      if (away.allFinite() && away.norm() > 0.0) normal = away;  // else: the shell normal (a flat spot of phi)
+    }
+  }
   const double normalLength = normal.norm();
   if (!(normalLength > 0.0)) return depth;  // the normal turned half a turn during the step: no direction
   normal /= normalLength;
@@ -179,7 +208,8 @@ void finishPenaltyResult(double timestep, PenaltyResult& io);
 /// `pointNormalInShell` gives its normal. Continuous: uses each contact's intervals (run the CCD with
 /// CcdMode::AllIntervals). Discrete: ignores the intervals and evaluates every listed contact at the end pose
 /// (run the CCD with start = end so that it lists the points inside at the end). `Field` needs
-/// `double distance(const Vec3& pointInSdf) const`. Throws sdfccd::Error on a bad timestep or point index.
+/// `double distance(const Vec3& pointInSdf) const` (and `Vec3 gradient(const Vec3&) const` for
+/// PenaltyDirection::FieldGradient). Throws sdfccd::Error on a bad timestep or point index.
 template <class Field>
 PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
                                const PenaltyBodyMotion& shell, const PenaltyBodyMotion& fieldBody, double timestep,
