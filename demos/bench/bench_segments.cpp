@@ -25,15 +25,11 @@
 #include <vector>
 
 #include "bench/openvdb_peer.h"
+#include "bench/segment_experiments.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/grid_field.h"
-#include "sdfccd/sdf_builder.h"
 #include "sdfccd/sdf_file.h"
-#if __has_include("sdfccd/io/mesh_loader.h")
-#include "sdfccd/io/mesh_loader.h"
-#define SDFCCD_BENCH_SEGMENTS_HAS_IO 1
-#endif
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"
@@ -53,138 +49,6 @@ struct BenchSegmentsOptions {
   std::string octree;      // only this octree mode (empty: all)
   unsigned seed = 1;
 };
-
-struct Segment {
-  Vec3 p0, p1;
-};
-
-// CPU time of the calling thread (s): the machine may be shared, and wall time would count other processes.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-struct RunStats {
-  double microseconds = 0.0;      // per segment, thread CPU time
-  double wallMicroseconds = 0.0;  // per segment, wall-clock time
-  long long hits = 0;
-  std::vector<float> fractions;  // first hit per segment, -1 when none
-};
-
-RunStats timeQueries(const GridField& field, const std::vector<Segment>& segments, CcdMethod method, OctreeMode octree,
-                     std::size_t count, bool keepFractions) {
-  SegmentCcdSettings settings;
-  settings.sigma = 0.0;
-  settings.method = method;
-  settings.octree = octree;
-  settings.mode = CcdMode::FirstHit;
-  count = std::min(count, segments.size());
-  RunStats stats;
-  if (keepFractions) stats.fractions.assign(count, -1.0f);
-  SegmentCcdResult r;
-  const auto start = std::chrono::steady_clock::now();
-  const double cpuStart = threadCpuSeconds();
-  for (std::size_t n = 0; n < count; ++n) {
-    field.intersectSegment(segments[n].p0, segments[n].p1, settings, r);
-    if (r.hit()) {
-      ++stats.hits;
-      if (keepFractions) stats.fractions[n] = static_cast<float>(r.fraction);
-    }
-  }
-  const double cpu = threadCpuSeconds() - cpuStart;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  stats.microseconds = 1e6 * cpu / static_cast<double>(std::max<std::size_t>(count, 1));
-  stats.wallMicroseconds = 1e6 * seconds / static_cast<double>(std::max<std::size_t>(count, 1));
-  return stats;
-}
-
-// First hits of bisection against exact: missed (exact hits, bisection not), misplaced (> 1% of a cell
-// apart along the segment), spurious (bisection hits, exact not).
-struct MissStats {
-  long long exactHits = 0, missed = 0, misplaced = 0, spurious = 0;
-};
-
-MissStats compareFirstHits(const GridField& field, const std::vector<Segment>& segments, std::size_t count) {
-  SegmentCcdSettings exact, bisection;
-  exact.mode = bisection.mode = CcdMode::FirstHit;
-  bisection.method = CcdMethod::Bisection;
-  MissStats m;
-  SegmentCcdResult a, b;
-  count = std::min(count, segments.size());
-  for (std::size_t n = 0; n < count; ++n) {
-    field.intersectSegment(segments[n].p0, segments[n].p1, exact, a);
-    field.intersectSegment(segments[n].p0, segments[n].p1, bisection, b);
-    if (a.hit()) ++m.exactHits;
-    if (a.hit() && !b.hit()) ++m.missed;
-    if (!a.hit() && b.hit()) ++m.spurious;
-    if (a.hit() && b.hit()) {
-      const double length = (segments[n].p1 - segments[n].p0).norm();
-      if (std::abs(a.fraction - b.fraction) * length > 0.01 * field.spacing()) ++m.misplaced;
-    }
-  }
-  return m;
-}
-
-std::vector<Segment> randomSegmentsInBox(const Box3& box, std::size_t count, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const Vec3 size = box.max() - box.min();
-  std::vector<Segment> s(count);
-  for (auto& seg : s) {
-    seg.p0 = box.min() + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-    seg.p1 = box.min() + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-  }
-  return s;
-}
-
-// Haptic-rate segments: start outside the object within 2 cells of the surface (a shell point before its
-// step), random direction, length up to 2 cells.
-std::vector<Segment> hapticSegments(const GridField& field, std::size_t count, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::normal_distribution<double> normal;
-  const Box3 box = field.grid().box();
-  const Vec3 size = box.max() - box.min();
-  const double h = field.spacing();
-  std::vector<Segment> s;
-  s.reserve(count);
-  for (std::size_t attempts = 0; s.size() < count && attempts < 1000 * count; ++attempts) {
-    const Vec3 p0 = box.min() + size.cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-    const double phi = field.distance(p0);
-    if (!(phi > 0.0 && phi < 2.0 * h)) continue;
-    Vec3 dir(normal(rng), normal(rng), normal(rng));
-    if (dir.norm() == 0.0) continue;
-    s.push_back({p0, p0 + (2.0 * h * u(rng)) * dir.normalized()});
-  }
-  return s;
-}
-
-std::shared_ptr<const SdfGrid> bunnyField(const BenchSegmentsOptions& o, int resolution) {
-  namespace fs = std::filesystem;
-  const std::string cached = o.cache + "/bunny_" + std::to_string(resolution) + "_pad0.sdf";
-  if (fs::exists(cached)) {
-    std::printf("  loading %s\n", cached.c_str());
-    return std::make_shared<const SdfGrid>(loadSdf(cached));
-  }
-#ifdef SDFCCD_BENCH_SEGMENTS_HAS_IO
-  const std::string meshPath = o.mesh.empty() ? std::string(SDFCCD_ASSETS_DIR_CLI) + "/meshes/bunny.off" : o.mesh;
-  std::printf("  building the bunny SDF at %d^3 from %s (cached in %s)\n", resolution, meshPath.c_str(),
-              cached.c_str());
-  std::fflush(stdout);
-  const TriangleMesh mesh = loadMesh(meshPath);
-  SdfBuildSettings settings;
-  settings.resolution = resolution;
-  settings.padding = 0;
-  SdfBuildResult built = buildSdf(mesh, settings);
-  std::error_code ec;
-  fs::create_directories(o.cache, ec);
-  if (!ec) saveSdf(cached, *built.grid);
-  return built.grid;
-#else
-  throw Error("no cached field '" + cached + "' and the tool was built without mesh loading (assimp)");
-#endif
-}
 
 struct PaperTable2 {
   int resolution;
@@ -208,7 +72,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
            "octree_memory_ratio,machine\n";
   }
   auto csvRow = [&](const char* protocol, const std::string& field, int cells, const char* method, const char* octree,
-                    std::size_t n, const RunStats& r, double paper, double ratio) {
+                    std::size_t n, const SegmentTiming& r, double paper, double ratio) {
     if (!csv) return;
     csv << protocol << ',' << field << ',' << cells << ',' << method << ',' << octree << ',' << n << ','
         << r.microseconds << ',' << r.wallMicroseconds << ',' << paper << ',' << r.hits << ',' << ratio << ",\""
@@ -238,8 +102,9 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
   std::printf("\n%-22s %7s %-10s %-7s %9s %12s %12s %12s %9s\n", "protocol", "cells", "method", "octree", "segments",
               "us/segment", "wall us/seg", "paper s/1e6", "hits");
   for (const PaperTable2& row : rows) {
-    const auto grid =
-        o.field.empty() ? bunnyField(o, row.resolution) : std::make_shared<const SdfGrid>(loadSdf(o.field));
+    const std::string meshPath = o.mesh.empty() ? std::string(SDFCCD_ASSETS_DIR_CLI) + "/meshes/bunny.off" : o.mesh;
+    const auto grid = o.field.empty() ? cachedBunnyField(o.cache, meshPath, row.resolution, 0, stdout)
+                                      : std::make_shared<const SdfGrid>(loadSdf(o.field));
     const std::string fieldName = o.field.empty() ? "bunny" : o.field;
     const auto buildStart = std::chrono::steady_clock::now();
     const GridField field(grid);
@@ -259,7 +124,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     for (const Config& c : configs) {
       if (!selected(c)) continue;
       const std::size_t n = c.octree == OctreeMode::Off ? uniformCount : random.size();
-      const RunStats r = timeQueries(field, random, c.method, c.octree, n, false);
+      const SegmentTiming r = timeSegmentQueries(field, random, c.method, c.octree, n, false);
       double paper = 0.0;
       if (c.method == CcdMethod::Exact && c.octree == OctreeMode::Off) paper = row.uniform;
       if (c.method == CcdMethod::Exact && c.octree == OctreeMode::Full) paper = row.octree;
@@ -311,7 +176,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
     double hapticTimes[3] = {0, 0, 0};
     for (const Config& c : configs) {
       if (!selected(c)) continue;
-      const RunStats r = timeQueries(field, haptic, c.method, c.octree, haptic.size(), false);
+      const SegmentTiming r = timeSegmentQueries(field, haptic, c.method, c.octree, haptic.size(), false);
       if (c.method == CcdMethod::Exact) hapticTimes[static_cast<int>(c.octree)] = r.microseconds;
       std::printf("%-22s %7d %-10s %-7s %9zu %12.3f %12.2f %12s %9lld\n", "haptic-short", cells, c.methodName,
                   c.octreeName, haptic.size(), r.microseconds, r.wallMicroseconds, "-", r.hits);
@@ -326,8 +191,8 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
 
     // Protocol 3: bisection's misses on this field.
     if (!everything) continue;
-    const MissStats mr = compareFirstHits(field, random, std::min<std::size_t>(random.size(), 200000));
-    const MissStats mh = compareFirstHits(field, haptic, haptic.size());
+    const BisectionVsExact mr = compareBisectionToExact(field, random, std::min<std::size_t>(random.size(), 200000));
+    const BisectionVsExact mh = compareBisectionToExact(field, haptic, haptic.size());
     std::printf(
         "   bisection vs exact, random: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
         mr.exactHits, mr.missed, mr.misplaced, mr.spurious);
@@ -335,7 +200,8 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
         "   bisection vs exact, haptic: %lld exact hits, %lld missed, %lld misplaced (>1%% cell), %lld spurious\n",
         mh.exactHits, mh.missed, mh.misplaced, mh.spurious);
     if (csv) {
-      for (const auto& [name, m] : {std::pair<const char*, MissStats>{"misses-random", mr}, {"misses-haptic", mh}}) {
+      for (const auto& [name, m] :
+           {std::pair<const char*, BisectionVsExact>{"misses-random", mr}, {"misses-haptic", mh}}) {
         csv << name << ',' << fieldName << ',' << cells << ",bisection,full," << m.exactHits << ",,,," << m.missed
             << ';' << m.misplaced << ';' << m.spurious << ',' << ratio << ",\"" << machineDescription() << "\"\n";
       }
@@ -345,19 +211,14 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
 
   // Protocol 3 on a random field: independent node values in [-1, 1], several roots per cell.
   if (everything) {
-    const int n = 33;
-    std::mt19937 rng(o.seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<float> values(static_cast<std::size_t>(n) * n * n);
-    for (auto& v : values) v = static_cast<float>(u(rng));
-    const GridField field(std::make_shared<const SdfGrid>(Vec3i(n, n, n), Vec3::Zero(), 1.0, std::move(values)));
+    const GridField field(randomValueGrid(32, o.seed));
     // Segments of up to 2 cells (long ones almost always start near a crossing cell).
-    std::vector<Segment> segments = randomSegmentsInBox(field.grid().box(), 100000, o.seed + 2);
-    for (auto& s : segments)
-      s.p1 = s.p0 + (s.p1 - s.p0).normalized() * 2.0 * std::uniform_real_distribution<double>(0, 1)(rng);
-    const MissStats m = compareFirstHits(field, segments, segments.size());
-    const RunStats e = timeQueries(field, segments, CcdMethod::Exact, OctreeMode::Full, segments.size(), false);
-    const RunStats b = timeQueries(field, segments, CcdMethod::Bisection, OctreeMode::Full, segments.size(), false);
+    const std::vector<Segment> segments = shortRandomSegments(field.grid().box(), 2.0, 100000, o.seed + 2);
+    const BisectionVsExact m = compareBisectionToExact(field, segments, segments.size());
+    const SegmentTiming e =
+        timeSegmentQueries(field, segments, CcdMethod::Exact, OctreeMode::Full, segments.size(), false);
+    const SegmentTiming b =
+        timeSegmentQueries(field, segments, CcdMethod::Bisection, OctreeMode::Full, segments.size(), false);
     std::printf("-- random field 32^3 cells, values in [-1,1], 1e5 segments of <= 2 cells\n");
     std::printf(
         "   bisection vs exact: %lld exact hits, %lld missed (%.2f%%), %lld misplaced (%.2f%%), %lld spurious\n",
