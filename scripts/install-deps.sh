@@ -16,6 +16,7 @@ packages=(
   gnuplot-nox          # run plots (sdfccd plot), headless pngcairo terminal
   libtbb-dev           # parallel loops in the SDF builder and tree traversal
   libopenvdb-dev libboost-dev  # optional peer of `sdfccd bench segments` (OpenVDB LevelSetRayIntersector)
+  clang libclang-rt-14-dev     # libFuzzer targets of the loaders (tests/fuzz; scripts/test.sh fuzz stage)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,11 +1,41 @@
 #!/usr/bin/env bash
 # The test command (README, .ci/run): installs dependencies, builds, runs every test suite, then rebuilds
-# the core and its tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them again.
-# Usage (as root, from the repository root): bash scripts/test.sh
+# the core and its tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them again, runs the haptics
+# suite under ThreadSanitizer, and fuzzes the field, shell and scene loaders briefly (libFuzzer, clang).
+# Usage (as root, from the repository root): bash scripts/test.sh [fuzz]   (fuzz: the libFuzzer stage alone)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 jobs=$(nproc)
+
+# The loaders under libFuzzer (tests/fuzz): arbitrary bytes must give a valid object or an sdfccd::Error; a
+# crash, another exception, a leak or UB fails the command. Each fuzzer runs 20 s on a copy of its corpus.
+fuzz_stage() {
+  echo "== build (libFuzzer targets: clang, address,undefined sanitizers)" >&2
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug \
+    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DSDFCCD_BUILD_FUZZERS=ON -DSDFCCD_BUILD_TESTS=OFF \
+    -DSDFCCD_BUILD_TOOLS=OFF -DSDFCCD_BUILD_BULLET=OFF -DSDFCCD_BUILD_HAPTICS=OFF -DSDFCCD_BUILD_RENDER=OFF >/dev/null
+  cmake --build build-fuzz -j"$jobs" --target fuzz_field_loader fuzz_shell_loader fuzz_scene_loader
+  echo "== fuzz (field, shell and scene loaders, 20 s each)" >&2
+  mkdir -p build-fuzz/artifacts
+  for target in fuzz_field_loader fuzz_shell_loader fuzz_scene_loader; do
+    corpus=$(mktemp -d)
+    cp tests/fuzz/corpus/"$target"/* "$corpus"/
+    if ! build-fuzz/tests/fuzz/"$target" -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
+        -artifact_prefix=build-fuzz/artifacts/"$target"- "$corpus" 2> build-fuzz/"$target".log; then
+      tail -n 40 build-fuzz/"$target".log >&2
+      echo "fuzz: $target failed; reproducer in build-fuzz/artifacts/" >&2
+      rm -rf "$corpus"
+      return 1
+    fi
+    grep -E "^Done [0-9]+ runs" build-fuzz/"$target".log >&2 || true
+    rm -rf "$corpus"
+  done
+}
+if [ "${1:-}" = fuzz ]; then
+  fuzz_stage
+  exit 0
+fi
 
 echo "== build (Release)" >&2
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -29,3 +59,5 @@ cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFCCD_SANITIZE=thr
 cmake --build build-tsan -j"$jobs" --target haptics_tests
 echo "== tests (thread sanitizer)" >&2
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build-tsan --output-on-failure -j"$jobs" --timeout 900 -L haptics_tests
+
+fuzz_stage

@@ -308,8 +308,11 @@ PointShell loadPly(std::istream& in, const std::string& path) {
     column[k] = static_cast<int>(it - properties.begin());
   }
   PointShell shell;
-  shell.positions.reserve(static_cast<std::size_t>(count));
-  shell.normals.reserve(static_cast<std::size_t>(count));
+  // The header's count is not trusted for memory: a 200-byte file claiming 10^8 points would reserve 5 GB
+  // before its truncation is found (found by tests/fuzz/fuzz_shell_loader). The vectors grow as points come.
+  const std::size_t reserved = static_cast<std::size_t>(std::min<long long>(count, 1 << 16));
+  shell.positions.reserve(reserved);
+  shell.normals.reserve(reserved);
   for (long long n = 0; n < count; ++n) {
     if (!next(line)) {
       throw Error(path + ": truncated, expected " + std::to_string(count) + " points, found " + std::to_string(n));
@@ -547,12 +550,22 @@ void saveShell(const PointShell& shell, const std::string& path) {
   file.commit();
 }
 
+PointShell parseShell(const std::string& text, const std::string& name) {
+  const std::string ext = lowerExtension(name);
+  if (ext != "ply" && ext != "csv") throw Error(name + ": unknown shell format (use .ply or .csv)");
+  std::istringstream in(text);
+  return ext == "ply" ? loadPly(in, name) : loadCsv(in, name);
+}
+
 PointShell loadShell(const std::string& path) {
   const std::string ext = lowerExtension(path);
   if (ext != "ply" && ext != "csv") throw Error(path + ": unknown shell format (use .ply or .csv)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the shell file");
-  return ext == "ply" ? loadPly(in, path) : loadCsv(in, path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw Error(path + ": cannot read the shell file");
+  return parseShell(text.str(), path);
 }
 
 }  // namespace sdfccd

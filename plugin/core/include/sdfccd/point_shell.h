@@ -62,5 +62,8 @@ void saveShell(const PointShell& shell, const std::string& path);
 /// are normalized. Throws sdfccd::Error (one line naming the file and line) on a missing file, another
 /// format, a truncated file, wrong counts, non-numbers, NaN/inf or zero-length normals.
 PointShell loadShell(const std::string& path);
+/// loadShell from memory: `text` is a file's content; `name` (a path or file name) picks the format by its
+/// extension and names the input in errors. Same checks, same errors.
+PointShell parseShell(const std::string& text, const std::string& name);
 
 }  // namespace sdfccd
