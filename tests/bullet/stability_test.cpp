@@ -3,8 +3,10 @@
 // height), a stack, mass ratios of 1:1000, impacts at up to 100 cells per step, bodies starting
 // interpenetrated, and NaN/inf state that must be rejected with a one-line error naming the body and field.
 //
-// Boxes use the mesh's 8 vertices as their shell (scene "points": 0): the 4 bottom corners carry the weight,
-// so every rest depth is closed-form, d = (weight carried) / (4 k), and a step costs a few microseconds.
+// Resting boxes use the mesh's 8 vertices as their shell (scene "points": 0): the 4 bottom corners carry the
+// weight, so every rest depth is closed-form, d = (weight carried) / (4 k), and a step costs a few
+// microseconds. The scenes use the conservative force direction ("direction": "field_gradient", see
+// penalty_model.h); ShellNormalForceDirectionDriftsWhereFieldGradientRests shows why.
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
@@ -48,15 +50,14 @@ double groundRestDepth(double weight, int n, double k, double c, double dt) {
 
 std::string boxBody(const std::string& name, double hx, double hy, double hz, double mass, double y,
                     const std::string& extra = "") {
-  return "{ \"name\": \"" + name + "\", \"primitive\": { \"type\": \"box\", \"half_extents\": [" +
-         std::to_string(hx) + ", " + std::to_string(hy) + ", " + std::to_string(hz) +
-         "] }, \"mass\": " + std::to_string(mass) + ", \"position\": [0, " + std::to_string(y) +
-         ", 0], \"points\": 0, \"resolution\": 16" + extra + " }";
+  return "{ \"name\": \"" + name + "\", \"primitive\": { \"type\": \"box\", \"half_extents\": [" + std::to_string(hx) +
+         ", " + std::to_string(hy) + ", " + std::to_string(hz) + "] }, \"mass\": " + std::to_string(mass) +
+         ", \"position\": [0, " + std::to_string(y) + ", 0], \"points\": 0, \"resolution\": 16" + extra + " }";
 }
 
-
 // The penalty energy stored at the current poses: sum of k d^2 / 2 over the shell points of every body that
-// are inside another body's field (both roles), d the depth (J). Penalty forces are -grad of this energy.
+// are inside another body's field (both roles), d the depth (J). With the field-gradient direction the
+// spring forces are minus the gradient of this energy.
 double storedPenaltyEnergy(const SceneWorld& world, double k) {
   double energy = 0.0;
   for (int a = 0; a < world.bodyCount(); ++a) {
@@ -158,8 +159,8 @@ TEST(Stability, StackOfThreeBoxesRestsAtAnalyticHeights) {
   }
   double expected = 0.0;
   for (int i = 0; i < 3; ++i) {
-    const double depth = i == 0 ? groundRestDepth(3 * mass * kGravity, 4, k, 5.0, 0.001)
-                                : (3 - i) * mass * kGravity / (4 * k);
+    const double depth =
+        i == 0 ? groundRestDepth(3 * mass * kGravity, 4, k, 5.0, 0.001) : (3 - i) * mass * kGravity / (4 * k);
     expected += (i == 0 ? h : 2 * h) - depth;
     std::printf("stack: box%d y %.9f expected %.9f\n", i, world.bodyState(i).position.y(), expected);
     EXPECT_NEAR(world.bodyState(i).position.y(), expected, 1e-6) << "box" << i;
@@ -184,10 +185,10 @@ void expectMassRatioRests(double lowerMass, double upperMass, double timestep, d
   char contact[160];
   std::snprintf(contact, sizeof contact,
                 R"("contact": { "stiffness": %.17g, "damping": %.17g, "direction": "field_gradient" })", k, damping);
-  const Scene scene = test::sceneFromText(
-      R"({ "timestep": )" + std::to_string(timestep) +
-      R"(, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"], )" + contact +
-      R"(, "bodies": [ )" + bodies + " ] }");
+  const Scene scene =
+      test::sceneFromText(R"({ "timestep": )" + std::to_string(timestep) +
+                          R"(, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"], )" +
+                          contact + R"(, "bodies": [ )" + bodies + " ] }");
   SceneWorld world(scene);
   double maxDeviation = 0.0;
   for (int f = 0; f < steps; ++f) {
@@ -249,10 +250,11 @@ TEST(Stability, FastBoxIntoTheGroundDoesNotTunnelAndGainsNoEnergy) {
       minY = std::min(minY, world.bodyState(0).position.y());
       maxPenetrationCells = std::max(maxPenetrationCells, world.lastFrame().penetrationCells);
     }
-    std::printf("ground %5.1f cells/step (%.1f m/s): energy max %.6g of %.6g J, min y %.5f, pen %.2f cells, "
-                "clamps %lld, final y %.6f\n",
-                cellsPerStep, speed, maxEnergy, launchEnergy, minY, maxPenetrationCells,
-                static_cast<long long>(world.clamps()), world.bodyState(0).position.y());
+    std::printf(
+        "ground %5.1f cells/step (%.1f m/s): energy max %.6g of %.6g J, min y %.5f, pen %.2f cells, "
+        "clamps %lld, final y %.6f\n",
+        cellsPerStep, speed, maxEnergy, launchEnergy, minY, maxPenetrationCells, static_cast<long long>(world.clamps()),
+        world.bodyState(0).position.y());
     EXPECT_TRUE(world.tunneledBodies().empty()) << cellsPerStep;
     EXPECT_GT(minY, h - cell) << cellsPerStep;
     // 1e-6: Bullet stores velocities in float (the launch energy itself is known to ~1e-7).
@@ -287,10 +289,10 @@ TEST(Stability, FastBoxIntoAThinPlateDoesNotTunnelAndGainsNoEnergy) {
       maxEnergy = std::max(maxEnergy, world.kineticEnergy());
       minY = std::min(minY, world.bodyState(1).position.y());
     }
-    std::printf("plate %5.1f cells/step (%.1f m/s): energy max %.6g of %.6g J, min y %.5f, clamps %lld\n",
-                cellsPerStep, speed, maxEnergy, launchEnergy, minY, static_cast<long long>(world.clamps()));
+    std::printf("plate %5.1f cells/step (%.1f m/s): energy max %.6g of %.6g J, min y %.5f, clamps %lld\n", cellsPerStep,
+                speed, maxEnergy, launchEnergy, minY, static_cast<long long>(world.clamps()));
     EXPECT_TRUE(world.tunneledBodies().empty()) << cellsPerStep;
-    EXPECT_GT(minY, 0.015 + 0.05 - cell) << cellsPerStep;  // its bottom stays above the plate's mid-plane
+    EXPECT_GT(minY, 0.015 + 0.05 - cell) << cellsPerStep;             // its bottom stays above the plate's mid-plane
     EXPECT_LE(maxEnergy, launchEnergy * (1 + 1e-6)) << cellsPerStep;  // float velocities
   }
 }
@@ -317,7 +319,8 @@ TEST(Stability, DeeplyInterpenetratedBoxesSeparateWithoutEnergyGain) {
     maxKinetic = std::max(maxKinetic, world.kineticEnergy());
   }
   std::printf("interpenetrated: stored %.6g J, max kinetic %.6g J, final contacts %d, distance %.4f\n", stored,
-              maxKinetic, world.lastFrame().contacts, (world.bodyState(1).position - world.bodyState(0).position).norm());
+              maxKinetic, world.lastFrame().contacts,
+              (world.bodyState(1).position - world.bodyState(0).position).norm());
   EXPECT_GT(maxKinetic, 0.0);
   EXPECT_LE(maxKinetic, stored);
   EXPECT_EQ(world.lastFrame().contacts, 0);
@@ -342,10 +345,10 @@ TEST(Stability, CoincidentAndNestedBodiesStayBounded) {
            "points": 100, "resolution": 16 })",
   };
   for (const char* bodies : cases) {
-    const Scene scene = test::sceneFromText(
-        std::string(R"({ "timestep": 0.001, "sleeping": false, "effects": ["damping", "rotation"],
+    const Scene scene =
+        test::sceneFromText(std::string(R"({ "timestep": 0.001, "sleeping": false, "effects": ["damping", "rotation"],
              "contact": { "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [ )") +
-        bodies + " ] }");
+                            bodies + " ] }");
     SceneWorld world(scene);
     const double stored = storedPenaltyEnergy(world, 2000.0);
     double maxKinetic = 0.0, maxDistance = 0.0;

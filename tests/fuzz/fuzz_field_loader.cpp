@@ -23,8 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;  // rejected with the one exception type: fine
   }
   const sdfccd::Vec3i nodes = grid.nodeCounts();
-  const std::size_t count = static_cast<std::size_t>(nodes.x()) * static_cast<std::size_t>(nodes.y()) *
-                            static_cast<std::size_t>(nodes.z());
+  const std::size_t count =
+      static_cast<std::size_t>(nodes.x()) * static_cast<std::size_t>(nodes.y()) * static_cast<std::size_t>(nodes.z());
   bool valid = nodes.minCoeff() >= 2 && grid.origin().allFinite() && std::isfinite(grid.spacing()) &&
                grid.spacing() > 0.0 && grid.values().size() == count;
   for (const float v : grid.values()) valid = valid && std::isfinite(v);

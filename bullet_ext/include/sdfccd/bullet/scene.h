@@ -60,7 +60,7 @@ struct SceneContact {
   double toiDepthCells = 0.5;
   bool useTree = true;
   SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< when the penalty impulses act
-  PenaltyDirection direction = PenaltyDirection::ShellNormal;    ///< "direction": shell_normal or field_gradient
+  PenaltyDirection direction = PenaltyDirection::ShellNormal;   ///< "direction": shell_normal or field_gradient
 };
 
 struct Scene {
