@@ -1,6 +1,6 @@
 /// @file
 /// @brief `sdfccd haptics SCENE --method penalty|constraint|discrete-penalty|discrete-constraint
-/// [--seconds S] [--out DIR] [--virtual-time] [--sim-cycles-per-tick N] [--ccd-threads N]`: a scripted,
+/// [--seconds S] [--out DIR] [--virtual-time] [--sim-cycles-per-tick N] [--ccd-threads N] [--cache DIR]`: a scripted,
 /// headless 6-DoF haptics session (paper Section 4) with the emulated 1 kHz device.
 ///
 /// @details Real time by default: the device loop runs at its rate on its own thread and, for the constraint
@@ -42,6 +42,7 @@ struct HapticsOptions {
   bool virtualTime = false;
   int simCyclesPerTick = 1;
   int ccdThreads = 1;
+  std::string cache = "out/cache";
 };
 
 int runHaptics(const HapticsOptions& o) {
@@ -53,7 +54,10 @@ int runHaptics(const HapticsOptions& o) {
   settings.simCyclesPerTick = o.simCyclesPerTick;
   settings.ccdThreads = o.ccdThreads;
   settings.recordTicks = !o.out.empty();
-  const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, sceneMeshLoader());
+  haptics::HapticSceneLoadSettings load;
+  load.meshLoader = sceneMeshLoader();
+  load.cacheDir = o.cache;
+  const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, load);
   if (!o.out.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(o.out, ec);
@@ -80,6 +84,7 @@ const CommandRegistrar registrar("haptics", [](CLI::App& app) {
   cmd->add_flag("--virtual-time", o->virtualTime, "Deterministic: no sleeping, simulation in lockstep");
   cmd->add_option("--sim-cycles-per-tick", o->simCyclesPerTick, "Virtual time: simulation cycles per tick (1)");
   cmd->add_option("--ccd-threads", o->ccdThreads, "CCD worker threads (1)");
+  cmd->add_option("--cache", o->cache, "Cache of fields built from meshes (\"\" disables; default out/cache)");
   return std::function<int()>([o]() { return runHaptics(*o); });
 });
 

@@ -4,15 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "sdfccd/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mass_properties.h"
 #include "sdfccd/point_shell.h"
 #include "sdfccd/procedural_meshes.h"
 #include "sdfccd/sdf_builder.h"
+#include "sdfccd/sdf_file.h"
 
 namespace sdfccd::haptics {
 
@@ -174,9 +179,68 @@ TriangleMesh sceneMesh(const Reader& r, const Json& j, const std::string& sceneF
   return mesh;
 }
 
+/// A procedural mesh named in the scene ("procedural": "alpha-puzzle-piece"), in its own frame, scaled by
+/// `scale` (model units per unit of the generator). Not centred: two pieces placed in the generator's frame
+/// (e.g. interlocked, alpha_puzzle_piece.h) keep their relative pose.
+TriangleMesh proceduralMesh(const Reader& r, const Json& j, const std::string& name) {
+  TriangleMesh mesh;
+  if (name == "alpha-puzzle-piece") {
+    mesh = makeAlphaPuzzlePiece();
+  } else {
+    r.fail("procedural", "must be \"alpha-puzzle-piece\"");
+  }
+  const double scale = r.positive(j, "scale", 1.0);
+  for (Vec3& v : mesh.vertices) v *= scale;
+  return mesh;
+}
+
+// FNV-1a, 64 bits: a cache key stable across compilers and runs (std::hash promises neither).
+std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = 1469598103934665603ull) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= bytes[i];
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+/// The exact field of a mesh obstacle: buildSdf, or the cached copy in cacheDir keyed by the mesh's vertices and
+/// triangles and the build parameters. A cache entry that fails to load is rebuilt and overwritten; a cache
+/// that cannot be written is skipped silently (the field is still returned).
+std::shared_ptr<const SdfGrid> meshObstacleGrid(const TriangleMesh& mesh, const SdfBuildSettings& build,
+                                                const std::string& cacheDir, const std::string& name) {
+  if (cacheDir.empty()) return buildSdf(mesh, build).grid;
+  constexpr int kCacheVersion = 1;
+  std::uint64_t key = fnv1a64(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
+  key = fnv1a64(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]), key);
+  const std::string parameters = "v" + std::to_string(kCacheVersion) + " r" + std::to_string(build.resolution) +
+                                 " p" + std::to_string(build.padding) + " s" + toString(build.signMethod);
+  key = fnv1a64(parameters.data(), parameters.size(), key);
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(key));
+  const std::filesystem::path file = std::filesystem::path(cacheDir) / (name + "-" + hex + ".sdf");
+  std::error_code ec;
+  if (std::filesystem::exists(file, ec)) {
+    try {
+      return std::make_shared<const SdfGrid>(loadSdf(file.string()));
+    } catch (const Error&) {
+      // Damaged: rebuilt and overwritten below.
+    }
+  }
+  std::shared_ptr<const SdfGrid> grid = buildSdf(mesh, build).grid;
+  std::filesystem::create_directories(cacheDir, ec);
+  try {
+    saveSdf(file.string(), *grid, SdfFileFormat::Native);
+  } catch (const Error&) {
+    // A read-only or full disk only costs the next run the build.
+  }
+  return grid;
+}
+
 }  // namespace
 
-HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoader) {
+HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettings& loadSettings) {
+  const MeshLoader& meshLoader = loadSettings.meshLoader;
   std::ifstream in(path);
   if (!in) throw Error("cannot open scene '" + path + "'");
   Json root;
@@ -199,12 +263,21 @@ HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoade
     scene.cellSize = r.positive(p, "cellSize", 1e-3);
   } else if (obstacle.contains("mesh")) {
     const Json& m = r.object(obstacle, "mesh");
-    const TriangleMesh mesh = sceneMesh(r, m, path, meshLoader);
+    std::string meshName;
+    TriangleMesh mesh;
+    if (m.contains("procedural")) {
+      if (!m.at("procedural").is_string()) r.fail("procedural", "must be a name");
+      meshName = m.at("procedural").get<std::string>();
+      mesh = proceduralMesh(r, m, meshName);
+    } else {
+      mesh = sceneMesh(r, m, path, meshLoader);
+      meshName = std::filesystem::path(m.at("path").get<std::string>()).stem().string();
+    }
     SdfBuildSettings build;
     build.resolution = static_cast<int>(r.positive(m, "resolution", 64));
     build.padding = static_cast<int>(r.nonNegative(m, "padding", 4));
     build.threads = 0;
-    std::shared_ptr<const SdfGrid> grid = buildSdf(mesh, build).grid;
+    std::shared_ptr<const SdfGrid> grid = meshObstacleGrid(mesh, build, loadSettings.cacheDir, meshName);
     const double offsetCells = r.number(m, "offsetCells", 0.0);
     if (offsetCells != 0.0) {
       std::vector<float> values = grid->values();
@@ -246,15 +319,19 @@ HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoade
                          static_cast<int>(r.nonNegative(shellJson, "subdivisions", 3)));
   } else if (shape == "mesh") {
     mesh = sceneMesh(r, shellJson, path, meshLoader);
+  } else if (shape == "alpha-puzzle-piece") {
+    mesh = proceduralMesh(r, shellJson, shape);
   } else {
-    r.fail("shell.shape", "must be box, cylinder, sphere or mesh");
+    r.fail("shell.shape", "must be box, cylinder, sphere, mesh or alpha-puzzle-piece");
   }
+  Vec3 centerOfMassInMesh = Vec3::Zero();
   MassPropertiesSettings massSettings;
   massSettings.mass = r.positive(shellJson, "mass", 0.05);
   scene.mass = massSettings.mass;
   try {
     const MassProperties props = computeMassProperties(mesh, massSettings);
     // The body frame's origin is the centre of mass: move the mesh (and so the shell) onto it.
+    centerOfMassInMesh = props.centerOfMassInMesh;
     for (Vec3& v : mesh.vertices) v -= props.centerOfMassInMesh;
     scene.inertiaDiagonal = props.inertiaAboutCenterOfMass.diagonal();
   } catch (const Error&) {
@@ -273,13 +350,19 @@ HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoade
   scene.tree = std::make_shared<const PointTree>(sampleShell(mesh, sampling));
   scene.shellIterations = sampling.iterations;
   scene.shellMesh = std::make_shared<const TriangleMesh>(mesh);
-  scene.worldFromBodyStart = r.pose(r.object(root, "start"));
+  // Poses in the file place the body's centre of mass ("poseFrame": "body", the default) or the shell mesh's own
+  // frame before centring ("mesh": e.g. a procedural piece placed in its generator's frame).
+  const std::string poseFrame = root.value("poseFrame", std::string("body"));
+  if (poseFrame != "body" && poseFrame != "mesh") r.fail("poseFrame", "must be \"body\" or \"mesh\"");
+  Rigid meshFromBody = Rigid::Identity();
+  if (poseFrame == "mesh") meshFromBody.translation() = centerOfMassInMesh;
+  scene.worldFromBodyStart = r.pose(r.object(root, "start")) * meshFromBody;
 
   // Scripted user.
   if (!root.contains("script") || !root.at("script").is_array() || root.at("script").empty())
     r.fail("script", "must be a non-empty array of keyframes");
   std::vector<PoseKeyframe> keys;
-  for (const Json& k : root.at("script")) keys.push_back({r.number(k, "t"), r.pose(k)});
+  for (const Json& k : root.at("script")) keys.push_back({r.number(k, "t"), r.pose(k) * meshFromBody});
   scene.script = UserScript(std::move(keys));
   scene.seconds = r.positive(root, "seconds", scene.script.duration() + 0.5);
 

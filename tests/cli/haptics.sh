@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Contract test of `sdfccd haptics`: a short virtual-time session writes ticks.csv and summary.json with the
 # required keys; the shrunk peg is stopped by the constraint method with zero penetration; bad input gives a
-# one-line error and a non-zero exit, and no output files.
+# one-line error and a non-zero exit, and no output files; the alpha puzzle's test variant runs with both methods.
 # Usage: haptics.sh /path/to/sdfccd /path/to/assets
 set -u
 SDFCCD="$1"
@@ -31,6 +31,15 @@ head -1 "$WORK/slide/ticks.csv" | grep -q '^tick,time,device_x' || fail "bad CSV
 grep -q '"inserted": false' "$WORK/shrunk.json" || fail "constraint method inserted the peg into the shrunk hole"
 grep -q '"max_penetration_cells": 0,' "$WORK/shrunk.json" || fail "constraint method penetrated"
 
+# The alpha puzzle (test variant): both methods run; the constraint method never penetrates; the field is cached.
+for method in constraint penalty; do
+  "$SDFCCD" haptics "$ASSETS/scenes/haptics/alpha-puzzle-small.json" --method $method --virtual-time --seconds 1.2 \
+    --cache "$WORK/cache" > "$WORK/alpha-$method.json" 2> "$WORK/err.txt" || fail "alpha $method failed: $(cat "$WORK/err.txt")"
+  grep -q "\"method\": \"$method\"" "$WORK/alpha-$method.json" || fail "alpha $method: wrong method"
+done
+grep -q '"max_penetration_cells": 0,' "$WORK/alpha-constraint.json" || fail "alpha: constraint method penetrated"
+[ "$(ls "$WORK/cache"/alpha-puzzle-piece-*.sdf | wc -l)" -eq 1 ] || fail "alpha: expected one cached field"
+
 # Errors: one line, non-zero exit, nothing written.
 expect_error() {
   local what="$1"; shift
@@ -45,5 +54,8 @@ expect_error "broken scene" haptics "$WORK/broken.json" --virtual-time --out "$W
 [ ! -e "$WORK/bad2/summary.json" ] || fail "summary written for a broken scene"
 echo '{"obstacle": ' > "$WORK/truncated.json"
 expect_error "truncated scene" haptics "$WORK/truncated.json" --virtual-time
+echo '{"obstacle": {"mesh": {"procedural": "teapot"}}, "shell": {"shape": "box", "halfExtents": [1, 1, 1]}}' \
+  > "$WORK/teapot.json"
+expect_error "unknown procedural mesh" haptics "$WORK/teapot.json" --virtual-time
 expect_error "bad seconds" haptics "$ASSETS/scenes/haptics/plane-slide.json" --seconds -1 --virtual-time
 echo "ok"

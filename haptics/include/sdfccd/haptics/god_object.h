@@ -22,7 +22,10 @@
 /// The constraints are linear in the motion, but a rotating body's points follow chords that sink by
 /// ~ r theta^2 / 2 per cycle at active contacts (and so does sliding over concave curvature). Two additions
 /// keep that from accumulating: maxStepRotation bounds theta per cycle, and depthCorrection adds an outward
-/// bias to a_u for contacts that drifted below sigma (the cone of the QP is unchanged).
+/// lift to the constrained move for contacts that drifted below sigma (after the QP: the cone of the QP is
+/// unchanged, and a user pressing into the contact cannot cancel the lift, as a bias of a_u would be
+/// projected away; without it, a point held at slideFloor freezes every move that sinks it to second order,
+/// e.g. sliding along the inside of a bent tube).
 ///
 /// Two details beyond the paper, both switchable:
 /// - sigma > 0 (a small fraction of a voxel) keeps the god-object a hair off the surface, so the discrete
@@ -146,9 +149,10 @@ class GodObject {
     const double ks = m_settings.couplingGain;
     out.unconstrained = ks * poseDifference(m_pose, worldFromDevice);
     // Depth correction: contacts that drifted below sigma (second-order effects of rotation and curvature,
-    // which the linearized constraints cannot see) bias the request outwards by the deepest shortfall. The
-    // constraint cone is unchanged, so the QP stays a projection onto a cone.
-    Vec6 request = out.unconstrained;
+    // which the linearized constraints cannot see) lift the move outwards by the deepest shortfall, added
+    // after the QP (so the constraint cone is unchanged and the QP stays a projection onto a cone).
+    const Vec6 request = out.unconstrained;
+    Vec3 lift = Vec3::Zero();
     if (m_settings.depthCorrection > 0.0) {
       Vec3 outwards = Vec3::Zero();
       double deepest = 0.0;
@@ -160,7 +164,7 @@ class GodObject {
         }
       }
       const double len = outwards.norm();
-      if (len > 0.0) request.head<3>() += (m_settings.depthCorrection * deepest / len) * outwards;
+      if (len > 0.0) lift = (m_settings.depthCorrection * deepest / len) * outwards;
     }
     const Mat6 mass = massMatrix(m_settings.mass, worldInertia(m_pose, m_settings.inertiaDiagonal));
     m_rows.resize(static_cast<Eigen::Index>(m_contacts.size()), 6);
@@ -176,6 +180,7 @@ class GodObject {
 
     // The tentative move, limited per cycle (a positive scaling keeps J a <= 0).
     Vec6 move = out.constrained;
+    move.head<3>() += lift;
     double scale = 1.0;
     const double lin = move.head<3>().norm();
     const double ang = move.tail<3>().norm();

@@ -97,9 +97,24 @@ void resampleSceneShell(HapticScene& scene, int points);
 /// Reads a mesh file (the core has no mesh reader: tools pass sdfccd::io's loadMesh).
 using MeshLoader = std::function<TriangleMesh(const std::string& path)>;
 
-/// Loads a scene file. Mesh paths in it are relative to the scene file's folder and need `meshLoader`.
+/// How a scene file is loaded.
+struct HapticSceneLoadSettings {
+  MeshLoader meshLoader;  ///< reads mesh files (paths relative to the scene file); empty: mesh files refused
+  /// Folder where the fields built from meshes (buildSdf: seconds to minutes at 512^3) are cached, keyed by
+  /// the mesh's content and the build parameters ("<name>-<hash>.sdf", native format); "": no cache.
+  std::string cacheDir;
+};
+
+/// Loads a scene file. Mesh paths in it are relative to the scene file's folder and need a mesh loader.
 /// Throws sdfccd::Error (one line naming the file and the key) on a missing file, bad JSON, missing or
-/// absurd values, or a mesh scene without a loader.
-HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoader = {});
+/// absurd values, or a mesh scene without a loader. A damaged cache entry is rebuilt and overwritten.
+HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettings& settings);
+
+/// As above, without a field cache.
+inline HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoader = {}) {
+  HapticSceneLoadSettings settings;
+  settings.meshLoader = meshLoader;
+  return loadHapticScene(path, settings);
+}
 
 }  // namespace sdfccd::haptics

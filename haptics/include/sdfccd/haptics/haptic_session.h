@@ -73,6 +73,8 @@ struct HapticSessionSummary {
   double simCycleP50Ms = 0.0;
   double simCycleP99Ms = 0.0;
   double simCycleMaxMs = 0.0;
+  double simCycleCpuP50Ms = 0.0;  ///< the simulation thread's CPU time per cycle (without preemption)
+  double simCycleCpuP99Ms = 0.0;
   int maxContacts = 0;
   double meanContacts = 0.0;       ///< over simulation cycles
   std::int64_t stuckCycles = 0;    ///< constraint: cycles whose QP reported Stuck
