@@ -65,18 +65,20 @@ std::string paperOrDash(double value, const char* format = "%.1f") {
 /// One segment set's accuracy: exact in each octree mode (worst counts kept) and bisection (full octree).
 struct AccuracyRow {
   std::string set;
+  std::string shortName;  ///< plot label
   ReferenceComparison exactWorst;
   ReferenceComparison bisection;
 };
 
-AccuracyRow measureAccuracy(const std::string& name, const GridField& field, const std::vector<Segment>& segments,
-                            std::size_t count, int samplesPerCell, int threads) {
+AccuracyRow measureAccuracy(const std::string& name, const std::string& shortName, const GridField& field,
+                            const std::vector<Segment>& segments, std::size_t count, int samplesPerCell, int threads) {
   const std::vector<Segment> subset(segments.begin(),
                                     segments.begin() + static_cast<std::ptrdiff_t>(std::min(count, segments.size())));
   const std::vector<ReferenceFirstHit> reference =
       bruteForceFirstHits(field.grid(), subset, 0.0, samplesPerCell, threads);
   AccuracyRow row;
   row.set = name;
+  row.shortName = shortName;
   SegmentCcdSettings settings;
   for (OctreeMode mode : kModes) {
     settings.octree = mode;
@@ -184,10 +186,10 @@ ReportSection runSegmentsSection(const ReportContext& context) {
                 << " (paper ~2) |\n";
 
     const std::string name = "bunny " + std::to_string(cells) + "^3";
-    accuracy.push_back(measureAccuracy(name + ", random", field, random, budget.referenceSegments,
-                                       budget.samplesPerCell, context.threads));
-    accuracy.push_back(measureAccuracy(name + ", haptic", field, haptic, budget.referenceSegments,
-                                       budget.samplesPerCell, context.threads));
+    accuracy.push_back(measureAccuracy(name + ", random", std::to_string(cells) + " random", field, random,
+                                       budget.referenceSegments, budget.samplesPerCell, context.threads));
+    accuracy.push_back(measureAccuracy(name + ", haptic", std::to_string(cells) + " haptic", field, haptic,
+                                       budget.referenceSegments, budget.samplesPerCell, context.threads));
     advance();
   }
 
@@ -204,7 +206,7 @@ ReportSection runSegmentsSection(const ReportContext& context) {
               << shortSegments.size() << ',' << t->microseconds << ',' << t->wallMicroseconds << ',' << t->hits
               << ",0\n";
   }
-  accuracy.push_back(measureAccuracy("random field 32^3, <= 2 cells", randomField, shortSegments,
+  accuracy.push_back(measureAccuracy("random field 32^3, <= 2 cells", "random field", randomField, shortSegments,
                                      std::max<std::size_t>(budget.referenceSegments, 2000), budget.samplesPerCell,
                                      context.threads));
   advance();
@@ -238,7 +240,7 @@ ReportSection runSegmentsSection(const ReportContext& context) {
                   << fmt("%.2f", percentOf(b.wrong, e.referenceHits)) << "%) | " << b.spurious << " |\n";
     accuracyCsvRow(r.set, "exact", "worst-of-3", e);
     accuracyCsvRow(r.set, "bisection", "full", b);
-    categories.push_back(r.set);
+    categories.push_back(r.shortName);
     exactBad.y.push_back(percentOf(e.missed + e.wrong, e.referenceHits));
     bisectionMissed.y.push_back(percentOf(b.missed, b.referenceHits));
     bisectionWrong.y.push_back(percentOf(b.wrong, b.referenceHits));
@@ -261,7 +263,7 @@ ReportSection runSegmentsSection(const ReportContext& context) {
   writeLinePlot(timePlot, context.outDir / "segments_time.png");
   LinePlot missPlot;
   missPlot.title = "First hits missed or misplaced, against the dense brute-force reference";
-  missPlot.xLabel = "segment set";
+  missPlot.xLabel = "segment set (bunny at 64^3 ... cells: random and haptic segments; random-valued field)";
   missPlot.yLabel = "% of the reference's hits";
   missPlot.style = PlotStyle::Bars;
   missPlot.categories = categories;
