@@ -29,6 +29,21 @@ bad "unwritable --out" --smoke --only integration --out "$work/file/sub" --asset
 bad "--threads 0" --smoke --only integration --out "$work/bad" --threads 0 --assets "$assets"
 bad "--assets without meshes" --smoke --only integration --out "$work/bad" --assets "$work"
 
+# A section that fails (no bunny mesh, no cache) is reported in report.md and report.json, the others still
+# run, and the command exits 1 after writing the report.
+mkdir -p "$work/no-bunny/meshes" "$work/no-bunny/scenes"
+if "$tool" report --smoke --only segments,integration --out "$work/failed" --assets "$work/no-bunny" --cache "" \
+  > /dev/null 2> "$work/err.txt"; then
+  fail "a failed section did not make the command fail"
+fi
+grep -q "FAILED" "$work/failed/report.md" || fail "report.md does not show the failed section"
+python3 - "$work/failed/report.json" <<'PY' || fail "report.json of the failed run"
+import json, sys
+s = {x["id"]: x for x in json.load(open(sys.argv[1]))["sections"]}
+assert s["segments"]["failed"] and "error" in s["segments"], s
+assert s["integration"]["ok"], s
+PY
+
 # The smoke run.
 out="$work/report"
 "$tool" report --smoke --only "$sections" --out "$out" --assets "$assets" --cache "$work/cache" --threads 2 \
