@@ -49,8 +49,7 @@ StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSetting
 namespace {
 
 // Runs trials for increasing values until the first unstable one.
-StabilitySearch walk(const std::vector<double>& values,
-                     const std::function<StabilityTrial(double)>& trialAt) {
+StabilitySearch walk(const std::vector<double>& values, const std::function<StabilityTrial(double)>& trialAt) {
   StabilitySearch search;
   for (const double v : values) {
     search.trials.push_back(trialAt(v));
@@ -81,8 +80,7 @@ StabilitySearch largestStableStiffness(const Scene& scene, const StabilityTrialS
   });
 }
 
-StabilitySearch softenUntilStable(const Scene& scene, const StabilityTrialSettings& base, double factor,
-                                  int attempts) {
+StabilitySearch softenUntilStable(const Scene& scene, const StabilityTrialSettings& base, double factor, int attempts) {
   StabilitySearch search;
   StabilityTrialSettings s = base;
   for (int attempt = 0; attempt < attempts; ++attempt) {

@@ -27,17 +27,17 @@ inline constexpr const char* kStabilityCriterion =
 /// One simulation run of a stability search.
 struct StabilityTrialSettings {
   PenaltyModel model = PenaltyModel::Continuous;
-  double timestep = 0.001;      ///< s
-  double stiffness = 10000.0;   ///< N/m per point
-  double duration = 1.0;        ///< simulated time (s)
-  std::string cacheDir;         ///< body model cache ("" = none)
+  double timestep = 0.001;     ///< s
+  double stiffness = 10000.0;  ///< N/m per point
+  double duration = 1.0;       ///< simulated time (s)
+  std::string cacheDir;        ///< body model cache ("" = none)
   SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;
 };
 
 /// The outcome of one trial.
 struct StabilityTrial {
-  double timestep = 0.0;             ///< s
-  double stiffness = 0.0;            ///< N/m per point
+  double timestep = 0.0;   ///< s
+  double stiffness = 0.0;  ///< N/m per point
   bool stable = false;
   double maxPenetrationCells = 0.0;  ///< deepest point over the run (field cells)
   std::string why;                   ///< "NaN", "energy gain", "tunnelled" or "" when stable
@@ -61,8 +61,7 @@ StabilitySearch largestStableStiffness(const Scene& scene, const StabilityTrialS
                                        const std::vector<double>& stiffnesses);
 /// Multiplies base.stiffness by `factor` (< 1) up to `attempts` times until a trial is stable; `largest` is
 /// the stable stiffness found (0: none).
-StabilitySearch softenUntilStable(const Scene& scene, const StabilityTrialSettings& base, double factor,
-                                  int attempts);
+StabilitySearch softenUntilStable(const Scene& scene, const StabilityTrialSettings& base, double factor, int attempts);
 
 }  // namespace sdfccd::cli
 
