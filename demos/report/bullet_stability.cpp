@@ -137,7 +137,7 @@ ReportSection runStability(const ReportContext& ctx) {
       fmt("%zu bunnies (777 points, 128-cell fields, every pair checked twice) dropped on the ground "
           "(`assets/scenes/drop-bunnies.json` without friction), symplectic Euler in Bullet, %.1f s simulated per "
           "trial, no time-of-impact clamping (only the penalty models differ), penalty impulses applied in the same "
-          "step. **Stable**: %s. A search walks increasing values and stops at the first unstable one.\n\n",
+          "step. **Definition:** %s. A search walks increasing values and stops at the first unstable one.\n\n",
           scene.bodies.size(), base.duration, kStabilityCriterion);
   MarkdownTable table({"quantity", "continuous", "discrete", "continuous / discrete", "paper"});
   table.addRow({fmt("largest stable timestep at k = %.0f N/m (s)", base.stiffness), fmt("%.4f", byTimestep[0].largest),

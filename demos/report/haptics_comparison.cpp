@@ -25,26 +25,30 @@ namespace {
 /// What a scene is expected to show (paper), per method.
 struct HapticCase {
   const char* scene;
-  const char* what;  ///< one line for the table
-  bool pegScene;     ///< resampled to the paper's 6,691 points in the full run
+  const char* what;      ///< one line for the table
+  bool pegScene;         ///< resampled to the paper's 6,691 points in the full run
+  const char* checkYes;  ///< the scene's check fired (inserted, tunnelled, slid)
+  const char* checkNo;
 };
 
 const HapticCase kCases[] = {
-    {"peg-in-hole", "Fig. 7a: size-matched hole, every method should insert", true},
-    {"peg-in-hole-shrunk", "Fig. 7a: hole 0.03 voxel too narrow: inserting is a false positive", true},
-    {"thin-wire", "Figs. 8/12: fast push on a wire 2 voxels wide: passing through is a false negative", false},
-    {"fig11-cylinders", "Fig. 11: cylinder thrown at three cylinders: passing through is a false negative", false},
-    {"plane-slide", "Section 4.2: box pressed on a plane and dragged: should slide 3 cm", false},
+    {"peg-in-hole", "Fig. 7a: size-matched hole, every method should insert", true, "inserted", "not inserted"},
+    {"peg-in-hole-shrunk", "Fig. 7a: hole 0.03 voxel too narrow: inserting is a false positive", true, "**inserted**",
+     "stopped at the rim"},
+    {"thin-wire", "Figs. 8/12: fast push on a wire 2 voxels wide: passing through is a false negative", false,
+     "**tunnelled**", "stopped"},
+    {"fig11-cylinders", "Fig. 11: cylinder thrown at three cylinders: passing through is a false negative", false,
+     "**tunnelled**", "stopped"},
+    {"plane-slide", "Section 4.2: box pressed on a plane and dragged: should slide 3 cm", false, "slid", "**stuck**"},
 };
 
 const haptics::HapticMethod kMethods[] = {haptics::HapticMethod::Penalty, haptics::HapticMethod::DiscretePenalty,
                                           haptics::HapticMethod::Constraint, haptics::HapticMethod::DiscreteConstraint};
 
-// The scene's check as a word: inserted / tunnelled / slid.
-std::string outcome(const haptics::HapticSessionSummary& s) {
-  if (s.hasTunnelCheck) return s.tunneled ? "**tunnelled**" : "stopped";
-  if (s.hasInsertCheck) return s.inserted ? "inserted" : "not inserted";
-  return "-";
+// The scene's check as a word.
+std::string outcome(const HapticCase& hc, const haptics::HapticSessionSummary& s) {
+  if (!s.hasTunnelCheck && !s.hasInsertCheck) return "-";
+  return (s.hasTunnelCheck ? s.tunneled : s.inserted) ? hc.checkYes : hc.checkNo;
 }
 
 ReportSection runHaptics(const ReportContext& ctx) {
@@ -129,12 +133,12 @@ ReportSection runHaptics(const ReportContext& ctx) {
       "cycle times (wall clock). Penetration is measured after every cycle over all shell points, in cells of "
       "the scene's field.\n\n";
   MarkdownTable table(
-      {"scene", "points", "method", "check", "max penetration (cells)", "max contacts", "cycle p50 / p99 (ms)"});
+      {"scene", "points", "method", "outcome", "max penetration (cells)", "max contacts", "cycle p50 / p99 (ms)"});
   for (std::size_t c = 0; c < cases; ++c) {
     for (std::size_t m = 0; m < methods; ++m) {
       const haptics::HapticSessionSummary& s = results[c][m];
       table.addRow({m == 0 ? std::string("`") + kCases[c].scene + "`" : "", m == 0 ? fmt("%d", shellPoints[c]) : "",
-                    s.method, outcome(s), fmt("%.3f", s.maxPenetrationCells), fmt("%d", s.maxContacts),
+                    s.method, outcome(kCases[c], s), fmt("%.3f", s.maxPenetrationCells), fmt("%d", s.maxContacts),
                     fmt("%.3f / %.3f", s.simCycleP50Ms, s.simCycleP99Ms)});
     }
   }
@@ -182,9 +186,12 @@ ReportSection runHaptics(const ReportContext& ctx) {
                  discretePenaltyTunnels ? "tunnelled" : "stopped", discretePenaltyTunnels ? "yes" : "**no**"});
   claims.addRow({"thin wire and Fig. 11 cylinders: constraint + CCD never passes through", "yes (Figs. 11, 12)",
                  constraintHoldsWire ? "stopped on both" : "passed through", constraintHoldsWire ? "yes" : "**no**"});
-  claims.addRow({"simulation cycle under 1 ms (1 kHz haptics), peg, constraint / penalty p99", "yes",
-                 fmt("%.3f / %.3f ms", pegConstraint.simCycleP99Ms, pegPenalty.simCycleP99Ms),
-                 std::max(pegConstraint.simCycleP99Ms, pegPenalty.simCycleP99Ms) < 1.0 ? "yes" : "**no**"});
+  const double p50 = std::max(pegConstraint.simCycleP50Ms, pegPenalty.simCycleP50Ms);
+  const double p99 = std::max(pegConstraint.simCycleP99Ms, pegPenalty.simCycleP99Ms);
+  claims.addRow({"simulation cycle under 1 ms (1 kHz haptics), peg, constraint / penalty", "yes",
+                 fmt("p50 %.3f / %.3f ms, p99 %.3f / %.3f ms", pegConstraint.simCycleP50Ms, pegPenalty.simCycleP50Ms,
+                     pegConstraint.simCycleP99Ms, pegPenalty.simCycleP99Ms),
+                 p99 < 1.0 ? "yes" : (p50 < 1.0 ? "p50 yes; p99 no (see below)" : "**no**")});
   md += claims.str() + "\n";
   md += fmt(
       "The penalty method's contacts grow with the inserted length (every shell point inside the wall pushes), "
