@@ -21,7 +21,9 @@ fuzz_stage() {
   for target in fuzz_field_loader fuzz_shell_loader fuzz_scene_loader; do
     corpus=$(mktemp -d)
     cp tests/fuzz/corpus/"$target"/* "$corpus"/
-    if ! build-fuzz/tests/fuzz/"$target" -max_total_time=20 -timeout=10 -rss_limit_mb=2048 \
+    dict=()
+    [ -f tests/fuzz/"$target".dict ] && dict=(-dict=tests/fuzz/"$target".dict)
+    if ! build-fuzz/tests/fuzz/"$target" -max_total_time=20 -timeout=10 -rss_limit_mb=2048 "${dict[@]}" \
         -artifact_prefix=build-fuzz/artifacts/"$target"- "$corpus" 2> build-fuzz/"$target".log; then
       tail -n 40 build-fuzz/"$target".log >&2
       echo "fuzz: $target failed; reproducer in build-fuzz/artifacts/" >&2
