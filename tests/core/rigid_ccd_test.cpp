@@ -260,6 +260,50 @@ TEST(RigidCcd, NoNodeIsCulledAboveACollidingPoint) {
   EXPECT_GT(checkedNodes, 1000);
 }
 
+// Node centres outside the field's box with points inside it (the projected-path node test): shells that
+// straddle the box faces, in both kinds of steps. No node is culled above a colliding point, and the tree
+// returns the linear contacts.
+TEST(RigidCcd, NodesWhoseCentreLeavesTheBoxAreCulledOnlyWhenNoPointBelowTouches) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const GridField grid(bumpyGrid(11, 0.02));
+  const Box3 box = grid.grid().box();
+  const PointTree tree(test::randomShell(300, 0.45, rng), PointTreeSettings{3, 2});
+  std::vector<std::vector<int>> under(tree.nodeCount());
+  for (int n = 0; n < tree.nodeCount(); ++n) tree.pointsUnder(n, under[n]);
+  // A point near a random face of the box, up to 0.4 in or out.
+  const auto nearFace = [&]() {
+    Vec3 p = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const int axis = static_cast<int>(3.0 * u(rng)) % 3;
+    p[axis] = (u(rng) < 0.5 ? box.min()[axis] : box.max()[axis]) + 0.8 * (u(rng) - 0.5);
+    return p;
+  };
+  int contacts = 0;
+  int checkedNodes = 0;
+  for (int config = 0; config < 60; ++config) {
+    Rigid a = test::randomPose(box, rng);
+    Rigid b = test::randomPose(box, rng);
+    a.translation() = nearFace();
+    b.translation() = config % 2 == 0 ? nearFace() : Vec3(a.translation() + 0.1 * (b.translation() - a.translation()));
+    RigidCcdSettings s;
+    s.sigma = config % 3 == 0 ? 0.02 : 0.0;
+    const std::string what = "config " + std::to_string(config);
+    const RigidCcdResult linear = checkTreeEqualsLinear(tree, grid, a, b, s, what);
+    contacts += static_cast<int>(linear.contacts.size());
+    std::vector<bool> colliding(tree.pointCount(), false);
+    for (const auto& c : linear.contacts) colliding[c.point] = true;
+    for (int n = 0; n < tree.nodeCount(); ++n) {
+      bool any = false;
+      for (int p : under[n]) any = any || colliding[p];
+      if (!any) continue;
+      ++checkedNodes;
+      EXPECT_TRUE(pointTreeNodeMayCollide(tree, grid, n, a, b, s)) << "node " << n << " culled, " << what;
+    }
+  }
+  EXPECT_GT(contacts, 300);
+  EXPECT_GT(checkedNodes, 300);
+}
+
 TEST(RigidCcd, IgnoredPointsAreSkipped) {
   std::mt19937 rng(4);
   const PointTree tree(shellFromVertices(makeIcosphere(1.0, 2)));
