@@ -205,12 +205,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
     const SceneBody& b = m_scene.bodies[i];
     const SdfccdBodyModel& model = *m_models[i];
     auto shape = std::make_unique<SdfccdShape>(m_models[i]);
-    Rigid worldFromModel = Rigid::Identity();
-    worldFromModel.linear() = b.orientation.toRotationMatrix();
-    worldFromModel.translation() = b.position;
-    // "position" places the centre of mass, "orientation" turns the mesh's own axes.
-    Rigid worldFromBody = worldFromModel * model.modelFromBody();
-    worldFromBody.translation() = b.position;
+    const Rigid worldFromBody = worldFromBodyAt(model.modelFromBody(), b.position, b.orientation);
     const Quat q(worldFromBody.linear());
     btTransform start(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
                       toBt(Vec3(worldFromBody.translation())));

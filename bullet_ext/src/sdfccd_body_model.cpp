@@ -70,13 +70,8 @@ std::shared_ptr<SdfccdBodyModel> SdfccdBodyModel::assemble(const TriangleMesh& m
   unitDensity.density = 1.0;
   const MassProperties inModel = computeMassProperties(scaled, unitDensity);
 
-  // Keep the mesh's own axes when they are already principal (symmetric shapes have ill-defined principal
-  // axes: a box or a sphere should not come out arbitrarily rotated).
-  const Mat3& inertia = inModel.inertiaAboutCenterOfMass;
-  const double offDiagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
-  Rigid modelFromBody = Rigid::Identity();
-  modelFromBody.translation() = inModel.centerOfMassInMesh;
-  if (offDiagonal > 1e-9 * inertia.trace()) modelFromBody.linear() = inModel.principalAxesInMesh;
+  const BodyFrame frame = bodyFrameOf(inModel);
+  const Rigid& modelFromBody = frame.modelFromBody;
   model->m_modelFromBody = modelFromBody;
 
   const Rigid bodyFromModel = modelFromBody.inverse();
@@ -84,10 +79,9 @@ std::shared_ptr<SdfccdBodyModel> SdfccdBodyModel::assemble(const TriangleMesh& m
   for (Vec3& v : model->m_meshInBody.vertices) v = bodyFromModel * v;
   model->m_mass = inModel;
   model->m_mass.centerOfMassInMesh = Vec3::Zero();
-  const Mat3 rotation = bodyFromModel.linear();
-  model->m_mass.inertiaAboutCenterOfMass = rotation * inertia * rotation.transpose();
+  model->m_mass.inertiaAboutCenterOfMass = frame.inertiaInBody;
   model->m_mass.principalAxesInMesh = Mat3::Identity();
-  model->m_mass.principalMoments = model->m_mass.inertiaAboutCenterOfMass.diagonal();
+  model->m_mass.principalMoments = frame.principalMoments();
   model->m_boundsInBody = Box3();
   for (const Vec3& v : model->m_meshInBody.vertices) model->m_boundsInBody.extend(v);
   return model;

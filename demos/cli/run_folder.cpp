@@ -255,18 +255,10 @@ Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensit
   MassPropertiesSettings unitDensity;
   unitDensity.density = 1.0;
   const MassProperties inModel = computeMassProperties(scaledMeshInModel, unitDensity);
-  // Same rule as SdfccdBodyModel: keep the mesh's own axes when they are already principal.
-  const Mat3& inertia = inModel.inertiaAboutCenterOfMass;
-  const double offDiagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
-  Rigid modelFromBody = Rigid::Identity();
-  modelFromBody.translation() = inModel.centerOfMassInMesh;
-  if (offDiagonal > 1e-9 * inertia.trace()) modelFromBody.linear() = inModel.principalAxesInMesh;
-  if (outUnitDensityPrincipalMoments != nullptr) {
-    const Mat3 rotation = modelFromBody.linear().transpose();
-    *outUnitDensityPrincipalMoments = (rotation * inertia * rotation.transpose()).diagonal();
-  }
+  const BodyFrame frame = bodyFrameOf(inModel);  // the same rule as SdfccdBodyModel
+  if (outUnitDensityPrincipalMoments != nullptr) *outUnitDensityPrincipalMoments = frame.principalMoments();
   if (outUnitDensityMass != nullptr) *outUnitDensityMass = inModel.mass;
-  return modelFromBody;
+  return frame.modelFromBody;
 }
 
 void loadRunMeshes(RunScene& ioScene) {
@@ -306,11 +298,7 @@ void loadRunMeshes(RunScene& ioScene) {
     const Loaded& entry = it->second;
     body.mesh = entry.meshInBody;
     body.principalInertia = entry.unitMoments * (body.mass / entry.unitMass);
-    // As the simulation places bodies: "position" is the centre of mass, "orientation" turns the mesh's axes.
-    Rigid worldFromModel = Rigid::Identity();
-    worldFromModel.linear() = body.orientationAtStart.toRotationMatrix();
-    body.worldFromBody = worldFromModel * entry.modelFromBody;
-    body.worldFromBody.translation() = body.positionAtStart;
+    body.worldFromBody = worldFromBodyAt(entry.modelFromBody, body.positionAtStart, body.orientationAtStart);
   }
 }
 

@@ -98,8 +98,8 @@ RunScene readRunScene(const std::string& path, const std::vector<std::string>& s
 /// mesh cannot be loaded or encloses no volume.
 void loadRunMeshes(RunScene& ioScene);
 
-/// The body frame of a scaled mesh: `modelFromBody` maps body coordinates to (scaled) mesh coordinates. Mirrors
-/// SdfccdBodyModel (bullet_ext): centre of mass at the origin, principal axes unless the mesh axes already are.
+/// The body frame of a scaled mesh: `modelFromBody` maps body coordinates to (scaled) mesh coordinates, by
+/// bodyFrameOf (mass_properties.h), the rule SdfccdBodyModel (bullet_ext) uses too.
 Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensityPrincipalMoments = nullptr,
                       double* outUnitDensityMass = nullptr);
 

@@ -135,6 +135,47 @@ TEST(MassProperties, ProceduralBoxAndIcosphere) {
   EXPECT_LT(previousError, 0.01);
 }
 
+// The body frame rule: the COM at the origin; an axis-aligned box keeps its axes (its principal axes are the
+// mesh's), a rotated box gets its own axes back (the body frame undoes the rotation up to axis signs/order).
+TEST(MassProperties, BodyFrameKeepsPrincipalMeshAxesAndRotatesOtherwise) {
+  const Vec3 h(0.3, 0.7, 1.1);
+  Rigid shifted = Rigid::Identity();
+  shifted.translation() = Vec3(1.0, 2.0, -0.5);
+  const BodyFrame aligned = bodyFrameOf(computeMassProperties(boxMesh(h, shifted), byMass(1.0)));
+  EXPECT_TRUE(aligned.modelFromBody.linear().isIdentity(0.0));
+  EXPECT_LT((aligned.modelFromBody.translation() - shifted.translation()).norm(), 1e-12);
+
+  Rigid meshFromBox = shifted;
+  meshFromBox.linear() = Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).toRotationMatrix();
+  const MassProperties p = computeMassProperties(boxMesh(h, meshFromBox), byMass(2.0));
+  const BodyFrame frame = bodyFrameOf(p);
+  EXPECT_LT((frame.modelFromBody.translation() - meshFromBox.translation()).norm(), 1e-10);
+  EXPECT_NEAR(frame.modelFromBody.linear().determinant(), 1.0, 1e-12);
+  // Diagonal in the body axes, with the box's moments.
+  const Mat3& inertia = frame.inertiaInBody;
+  EXPECT_LT(std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2)), 1e-10);
+  Vec3 moments = frame.principalMoments();
+  std::sort(moments.data(), moments.data() + 3);
+  EXPECT_LT((moments - p.principalMoments).norm(), 1e-10);
+  // Each body axis is one of the box's axes: |cos| = 1 with exactly one of them.
+  const Mat3 boxFromBody = meshFromBox.linear().transpose() * frame.modelFromBody.linear();
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(boxFromBody.col(c).cwiseAbs().maxCoeff(), 1.0, 1e-9);
+}
+
+// A scene places the centre of mass at "position" and turns the mesh's own axes by "orientation".
+TEST(MassProperties, WorldFromBodyAtPlacesCentreOfMassAndMeshAxes) {
+  Rigid modelFromBody = Rigid::Identity();
+  modelFromBody.linear() = Quat(Eigen::AngleAxisd(0.4, Vec3(0, 0, 1))).toRotationMatrix();
+  modelFromBody.translation() = Vec3(0.1, -0.2, 0.3);  // the centre of mass in the mesh
+  const Quat meshInWorld(Eigen::AngleAxisd(1.1, Vec3(1, 1, 0).normalized()));
+  const Vec3 com(2.0, 3.0, -1.0);
+  const Rigid worldFromBody = worldFromBodyAt(modelFromBody, com, meshInWorld);
+  EXPECT_LT((worldFromBody.translation() - com).norm(), 1e-15);
+  const Rigid worldFromModel = worldFromBody * modelFromBody.inverse();
+  EXPECT_TRUE(worldFromModel.linear().isApprox(meshInWorld.toRotationMatrix(), 1e-14));
+  EXPECT_LT((worldFromModel * modelFromBody.translation() - com).norm(), 1e-14);
+}
+
 TEST(MassProperties, RejectsBadInput) {
   TriangleMesh inverted = unitCubeMesh();
   for (auto& t : inverted.triangles) std::swap(t[1], t[2]);

@@ -72,4 +72,23 @@ MassProperties computeMassProperties(const TriangleMesh& mesh, const MassPropert
   return out;
 }
 
+BodyFrame bodyFrameOf(const MassProperties& inModel) {
+  const Mat3& inertia = inModel.inertiaAboutCenterOfMass;
+  const double offDiagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
+  BodyFrame frame;
+  frame.modelFromBody.translation() = inModel.centerOfMassInMesh;
+  if (offDiagonal > 1e-9 * inertia.trace()) frame.modelFromBody.linear() = inModel.principalAxesInMesh;
+  const Mat3 bodyFromModelRotation = frame.modelFromBody.linear().transpose();
+  frame.inertiaInBody = bodyFromModelRotation * inertia * bodyFromModelRotation.transpose();
+  return frame;
+}
+
+Rigid worldFromBodyAt(const Rigid& modelFromBody, const Vec3& centerOfMassInWorld,
+                      const Quat& modelOrientationInWorld) {
+  Rigid worldFromBody = Rigid::Identity();
+  worldFromBody.linear() = modelOrientationInWorld.toRotationMatrix() * modelFromBody.linear();
+  worldFromBody.translation() = centerOfMassInWorld;
+  return worldFromBody;
+}
+
 }  // namespace sdfccd

@@ -36,4 +36,23 @@ struct MassProperties {
 /// mass nor a positive density is given.
 MassProperties computeMassProperties(const TriangleMesh& mesh, const MassPropertiesSettings& settings);
 
+/// The frame a rigid body simulation moves (Bullet's body frame, paper Section 5), derived from mass properties.
+struct BodyFrame {
+  Rigid modelFromBody = Rigid::Identity();  ///< maps body coordinates to the mesh's (model units)
+  Mat3 inertiaInBody = Mat3::Zero();        ///< inertia about the COM in body axes (kg m^2), diagonal up to rounding
+  /// The diagonal of inertiaInBody (kg m^2): the principal moments in the order of the body axes.
+  Vec3 principalMoments() const { return inertiaInBody.diagonal(); }
+};
+
+/// The body frame rule, the one place it is decided (SdfccdBodyModel and the CLI's run folders both call it):
+/// origin at the centre of mass; axes along the principal axes of inertia, unless the mesh's own axes already
+/// are principal (off-diagonal inertia under 1e-9 of the trace) — symmetric shapes have ill-defined principal
+/// axes, and a box or a sphere should not come out arbitrarily rotated.
+BodyFrame bodyFrameOf(const MassProperties& inModel);
+
+/// Where a scene puts a body: `centerOfMassInWorld` places the centre of mass, `modelOrientationInWorld`
+/// turns the mesh's own axes (the body axes follow through modelFromBody). Scenes, the simulation and run
+/// folders all place bodies with it.
+Rigid worldFromBodyAt(const Rigid& modelFromBody, const Vec3& centerOfMassInWorld, const Quat& modelOrientationInWorld);
+
 }  // namespace sdfccd
