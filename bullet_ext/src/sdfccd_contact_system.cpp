@@ -7,6 +7,9 @@
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btCapsuleShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -17,9 +20,11 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <sstream>
 #include <type_traits>
 
 #include "sdfccd/analytic_fields.h"
+#include "sdfccd/analytic_shells.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
@@ -73,6 +78,37 @@ bool isPlane(const btCollisionShape* shape) {
   return shape->getShapeType() == STATIC_PLANE_PROXYTYPE;
 }
 
+/// The Bullet convex shapes our algorithm pairs with ours (each is an analytic field and a point shell).
+bool isSupportedConvexType(int shapeType) {
+  return shapeType == BOX_SHAPE_PROXYTYPE || shapeType == SPHERE_SHAPE_PROXYTYPE ||
+         shapeType == CAPSULE_SHAPE_PROXYTYPE;
+}
+bool isSupportedConvex(const btCollisionShape* shape) {
+  return isSupportedConvexType(shape->getShapeType());
+}
+
+/// The analytic field of a supported convex shape, centred at its body origin; calls `use(field)`. The
+/// sizes include Bullet's collision margin (btBoxShape's half extents with margin are the box the user asked
+/// for; a sphere's and a capsule's margin is their radius) and the local scaling.
+template <class Use>
+void withConvexField(const btCollisionShape* shape, Use use) {
+  switch (shape->getShapeType()) {
+    case BOX_SHAPE_PROXYTYPE:
+      use(BoxField(toVec3(static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin())));
+      break;
+    case SPHERE_SHAPE_PROXYTYPE:
+      use(SphereField(Vec3::Zero(), double(static_cast<const btSphereShape*>(shape)->getRadius())));
+      break;
+    case CAPSULE_SHAPE_PROXYTYPE: {
+      const auto* capsule = static_cast<const btCapsuleShape*>(shape);
+      use(CapsuleField(double(capsule->getRadius()), double(capsule->getHalfHeight()), capsule->getUpAxis()));
+      break;
+    }
+    default:
+      throw Error("sdfccd contact: not a supported convex shape");
+  }
+}
+
 }  // namespace
 
 /// The motion of one collision object over the current step.
@@ -111,15 +147,16 @@ struct SdfccdContactSystem::Record {
 };
 
 namespace {
-constexpr std::size_t kMaxClampPoints = 32;  // inelastic impact points per record
-constexpr int kImpactIterations = 8;         // sequential-impulse sweeps over them
+constexpr std::size_t kMaxClampPoints = 32;   // inelastic impact points per record
+constexpr int kImpactIterations = 8;          // sequential-impulse sweeps over them
+constexpr double kConvexPointsAcross = 16.0;  // convex shapes: at least this many points across their thinnest size
 }  // namespace
 
 /// Who is the shell and who the field in one role.
 struct SdfccdContactSystem::Role {
   std::size_t shell = 0;
   std::size_t field = 0;
-  const SdfccdShape* shellShape = nullptr;
+  const PointTree* shellTree = nullptr;  // our model's tree, or a convex shape's surface points
   Rigid bodyFromField = Rigid::Identity();
   bool shellIsBody0 = true;
 };
@@ -142,6 +179,10 @@ void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
   if (!(settings.toiDepthCells >= 0.0) || !std::isfinite(settings.toiDepthCells)) {
     throw Error("contact settings: toiDepthCells must be finite and >= 0");
   }
+  if (!(settings.convexPointSpacingCells > 0.0) || !std::isfinite(settings.convexPointSpacingCells) ||
+      settings.convexMaxPoints < 12) {
+    throw Error("contact settings: convexPointSpacingCells must be positive and finite, convexMaxPoints >= 12");
+  }
   if (settings.maxManifoldPoints < 0 || settings.maxManifoldPoints > 4) {
     throw Error("contact settings: maxManifoldPoints must be in 0..4");
   }
@@ -158,7 +199,7 @@ void SdfccdContactSystem::registerWith(btCollisionDispatcher& dispatcher) {
   btCollisionAlgorithmCreateFunc* empty = m_createFuncs[2].get();
   const int ours = CUSTOM_CONCAVE_SHAPE_TYPE;
   for (int other = 0; other < MAX_BROADPHASE_COLLISION_TYPES; ++other) {
-    const bool supported = other == ours || other == STATIC_PLANE_PROXYTYPE;
+    const bool supported = other == ours || other == STATIC_PLANE_PROXYTYPE || isSupportedConvexType(other);
     dispatcher.registerCollisionCreateFunc(ours, other, supported ? contacts : empty);
     dispatcher.registerCollisionCreateFunc(other, ours, supported ? contacts : empty);
     dispatcher.registerClosestPointsCreateFunc(ours, other, supported ? closest : empty);
@@ -217,7 +258,8 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   const bool ours1 = isSdfccdShape(shape1);
   manifold->clearManifold();
   resultOut->setPersistentManifold(manifold);
-  if (!(ours0 && (ours1 || isPlane(shape1))) && !(ours1 && isPlane(shape0))) {
+  const bool other1 = isPlane(shape1) || isSupportedConvex(shape1);
+  if (!(ours0 && (ours1 || other1)) && !(ours1 && (isPlane(shape0) || isSupportedConvex(shape0)))) {
     ++m_stats.unsupportedPairs;  // e.g. btSdfCollisionShape, which shares our type id
     return;
   }
@@ -242,28 +284,48 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     return;
   }
 
+  // One role: the shell of `shellWrap` (ours, or a convex's surface points) against the field of `fieldWrap`
+  // (ours, or a plane's or a convex's analytic field).
   auto runRole = [&](std::size_t shell, std::size_t field, const btCollisionObjectWrapper* shellWrap,
                      const btCollisionObjectWrapper* fieldWrap, bool shellIsBody0) {
     Role role;
     role.shell = shell;
     role.field = field;
-    role.shellShape = static_cast<const SdfccdShape*>(shellWrap->getCollisionShape());
     role.shellIsBody0 = shellIsBody0;
+    const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
-    const double shellCell = role.shellShape->model().cellSize();
+    if (isSdfccdShape(fieldShape)) {
+      const SdfccdBodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
+      role.bodyFromField = fieldModel.bodyFromField();
+      role.shellTree = isSdfccdShape(shellShape) ? &static_cast<const SdfccdShape*>(shellShape)->model().tree()
+                                                 : &convexShellTree(shellShape, fieldModel.cellSize());
+      processRole(role, fieldModel.field(), m_settings.toiDepthCells, fieldModel.cellSize(), timeStep, resultOut,
+                  closestPointsOnly);
+      return;
+    }
+    // An analytic field: depths are reported in cells of the shell body's own field.
+    const SdfccdBodyModel& shellModel = static_cast<const SdfccdShape*>(shellShape)->model();
+    role.shellTree = &shellModel.tree();
+    const double shellCell = shellModel.cellSize();
     if (isPlane(fieldShape)) {
       const auto* plane = static_cast<const btStaticPlaneShape*>(fieldShape);
       const PlaneField planeField(toVec3(plane->getPlaneNormal()), double(plane->getPlaneConstant()));
       processRole(role, planeField, m_settings.toiDepthCells, shellCell, timeStep, resultOut, closestPointsOnly);
     } else {
-      const SdfccdBodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
-      role.bodyFromField = fieldModel.bodyFromField();
-      processRole(role, fieldModel.field(), m_settings.toiDepthCells, fieldModel.cellSize(), timeStep, resultOut,
-                  closestPointsOnly);
+      withConvexField(fieldShape, [&](const auto& convexField) {
+        processRole(role, convexField, m_settings.toiDepthCells, shellCell, timeStep, resultOut, closestPointsOnly);
+      });
     }
   };
-  if (ours0) runRole(index0, index1, wrap0, wrap1, true);
-  if (ours1) runRole(index1, index0, wrap1, wrap0, false);
+  // Every body with a shell takes the shell role once: ours always; a convex only against our field.
+  if (ours0 || ours1)
+    runRole(ours0 ? index0 : index1, ours0 ? index1 : index0, ours0 ? wrap0 : wrap1, ours0 ? wrap1 : wrap0, ours0);
+  const btCollisionShape* second = ours0 ? shape1 : shape0;
+  if (ours0 && ours1) {
+    runRole(index1, index0, wrap1, wrap0, false);
+  } else if (isSupportedConvex(second)) {
+    runRole(ours0 ? index1 : index0, ours0 ? index0 : index1, ours0 ? wrap1 : wrap0, ours0 ? wrap0 : wrap1, !ours0);
+  }
 
   if (closestPointsOnly) {
     m_bodies.swap(savedBodies);
@@ -276,7 +338,8 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
                                       double timeStep, btManifoldResult* resultOut, bool closestPointsOnly) {
   const BodyStep& shell = m_bodies[role.shell];
   const BodyStep& fieldBody = m_bodies[role.field];
-  const SdfccdBodyModel& model = role.shellShape->model();
+  const PointTree& tree = *role.shellTree;
+  const PointShell& shellPoints = tree.shell();
   const bool discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
 
   const Rigid worldFromFieldStart = fieldBody.worldFromBodyStart * role.bodyFromField;
@@ -294,15 +357,14 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   ccd.threads = 1;
   const double ccdStart = threadCpuSeconds();
   // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
-  rigidCcd(model.tree(), field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, ccd, m_scratch);
+  rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, ccd, m_scratch);
   const double ccdSeconds = threadCpuSeconds() - ccdStart;
   if (!closestPointsOnly && m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0 &&
       !std::is_same_v<Field, PlaneField>) {
     RigidCcdSettings linear = ccd;
     linear.useTree = false;
     const double shadowStart = threadCpuSeconds();
-    rigidCcd(model.tree(), field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, linear,
-             m_shadowScratch);
+    rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, linear, m_shadowScratch);
     m_stats.shadowLinearSeconds += threadCpuSeconds() - shadowStart;
   }
   m_stats.ccdSeconds += ccdSeconds;
@@ -326,7 +388,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     std::partial_sort(deepest.begin(), deepest.begin() + static_cast<std::ptrdiff_t>(keep), deepest.end());
     for (std::size_t k = 0; k < keep; ++k) {
       const PointContact& c = m_scratch.contacts[static_cast<std::size_t>(deepest[k].second)];
-      const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
+      const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
       const Vec3 pointInWorld = worldFromShellEnd * pointInShell;
       Vec3 gradientInWorld = worldFromFieldEnd.linear() * field.gradient(sdfFromShellEnd * pointInShell);
       if (!(gradientInWorld.norm() > 0.0)) continue;
@@ -354,7 +416,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   record.shell = role.shell;
   record.field = role.field;
   record.penalty =
-      integratePenalty(model.shell().positions, field, m_scratch, shell.motion, fieldMotion, timeStep, penaltySettings);
+      integratePenalty(shellPoints.positions, field, m_scratch, shell.motion, fieldMotion, timeStep, penaltySettings);
   m_stats.penaltySeconds += seconds(penaltyStart);
   m_stats.penaltySamples += record.penalty.samples;
   m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
@@ -370,7 +432,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     std::vector<std::pair<double, Record::ClampPoint>> entering;
     for (const PointContact& c : m_scratch.contacts) {
       if (c.state != SegmentState::Hit || !(c.fraction > 0.0) || c.intervals.empty()) continue;
-      const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
+      const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
       const Vec3 p0 = sdfFromShellStart * pointInShell;
       const Vec3 p1 = sdfFromShellEnd * pointInShell;
       double deepest = c.depthAtEnd;
@@ -402,7 +464,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
       double deepest = 0.0;
       for (const PointContact& c : m_scratch.contacts) {
-        const Vec3& pointInShell = model.shell().positions[static_cast<std::size_t>(c.point)];
+        const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
         const Vec3 p0 = sdfFromShellStart * pointInShell;
         const Vec3 p1 = sdfFromShellEnd * pointInShell;
         deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - ccd.sigma));
@@ -416,6 +478,48 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     record.applied = true;
   }
   m_records.push_back(record);
+}
+
+const PointTree& SdfccdContactSystem::convexShellTree(const btCollisionShape* shape, double fieldCellSize) {
+  // Keyed by the shape's type and sizes (not its address, which a deleted shape may hand on) and the spacing.
+  std::ostringstream key;
+  key.precision(17);
+  double smallestExtent = 0.0;  // the shape's thinnest size (m)
+  withConvexField(shape, [&](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, BoxField>) {
+      key << ' ' << field.halfExtents().transpose();
+      smallestExtent = 2.0 * field.halfExtents().minCoeff();
+    }
+    if constexpr (std::is_same_v<Field, SphereField>) {
+      key << ' ' << field.radius();
+      smallestExtent = 2.0 * field.radius();
+    }
+    if constexpr (std::is_same_v<Field, CapsuleField>) {
+      key << ' ' << field.radius() << ' ' << field.halfHeight() << ' ' << field.axis();
+      smallestExtent = 2.0 * field.radius();
+    }
+  });
+  // Fine enough for the field it meets, and for the shape itself: a small sphere on a coarse field still
+  // rests on a patch of points, not on one.
+  const double spacing =
+      std::min(m_settings.convexPointSpacingCells * fieldCellSize, smallestExtent / kConvexPointsAcross);
+  key << ' ' << shape->getShapeType() << ' ' << spacing;
+  auto found = m_convexTrees.find(key.str());
+  if (found != m_convexTrees.end()) return *found->second;
+  AnalyticShellSettings sampling;
+  sampling.spacing = spacing;
+  sampling.maxPoints = m_settings.convexMaxPoints;
+  PointShell points;
+  withConvexField(shape, [&](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, BoxField>) points = boxShell(field.halfExtents(), sampling);
+    if constexpr (std::is_same_v<Field, SphereField>) points = sphereShell(field.radius(), sampling);
+    if constexpr (std::is_same_v<Field, CapsuleField>)
+      points = capsuleShell(field.radius(), field.halfHeight(), field.axis(), sampling);
+  });
+  auto tree = std::make_unique<PointTree>(std::move(points));
+  return *m_convexTrees.emplace(key.str(), std::move(tree)).first->second;
 }
 
 void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {

@@ -5,6 +5,8 @@
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
@@ -48,17 +50,44 @@ TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
   btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
   btBoxShape box(btVector3(1, 1, 1));
   btSphereShape sphere(1);
+  btCylinderShape cylinder(btVector3(1, 1, 1));
   for (ebtDispatcherQueryType type : {BT_CONTACT_POINT_ALGORITHMS, BT_CLOSEST_POINT_ALGORITHMS}) {
     EXPECT_EQ(find(dispatcher, &ours, &other, type), Found::Ours);
     EXPECT_EQ(find(dispatcher, &ours, &plane, type), Found::Ours);
     EXPECT_EQ(find(dispatcher, &plane, &ours, type), Found::Ours);
+    EXPECT_EQ(find(dispatcher, &ours, &box, type), Found::Ours);  // convex pairs: convex_pairs_test.cpp
+    EXPECT_EQ(find(dispatcher, &sphere, &ours, type), Found::Ours);
     // Unsupported partners: no contact, instead of Bullet's cast to btSdfCollisionShape.
-    EXPECT_EQ(find(dispatcher, &ours, &box, type), Found::Empty);
-    EXPECT_EQ(find(dispatcher, &sphere, &ours, type), Found::Empty);
+    EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Empty);
+    EXPECT_EQ(find(dispatcher, &cylinder, &ours, type), Found::Empty);
   }
   EXPECT_EQ(ours.getShapeType(), CUSTOM_CONCAVE_SHAPE_TYPE);
   EXPECT_TRUE(isSdfccdShape(&ours));
   EXPECT_FALSE(isSdfccdShape(&box));
+}
+
+// Bullet's convex shapes (beyond the paper): box, sphere and the three capsules, both orders, both query types.
+TEST(Registration, ConvexShapesInBothOrders) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  auto system = registerSdfccdAlgorithms(&dispatcher);
+  SdfccdShape ours(smallSphereModel());
+  btBoxShape box(btVector3(1, 1, 1));
+  btSphereShape sphere(1);
+  btCapsuleShape capsuleY(0.5, 1);
+  btCapsuleShapeX capsuleX(0.5, 1);
+  btCapsuleShapeZ capsuleZ(0.5, 1);
+  btCylinderShape cylinder(btVector3(1, 1, 1));
+  btConeShape cone(1, 1);
+  for (ebtDispatcherQueryType type : {BT_CONTACT_POINT_ALGORITHMS, BT_CLOSEST_POINT_ALGORITHMS}) {
+    for (btCollisionShape* convex : std::vector<btCollisionShape*>{&box, &sphere, &capsuleY, &capsuleX, &capsuleZ}) {
+      EXPECT_EQ(find(dispatcher, &ours, convex, type), Found::Ours) << convex->getName();
+      EXPECT_EQ(find(dispatcher, convex, &ours, type), Found::Ours) << convex->getName();
+    }
+    // Not supported: no contact (and never Bullet's cast to btSdfCollisionShape).
+    EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Empty);
+    EXPECT_EQ(find(dispatcher, &cone, &ours, type), Found::Empty);
+  }
 }
 
 TEST(Registration, ShapeMassPropertiesAndScaling) {

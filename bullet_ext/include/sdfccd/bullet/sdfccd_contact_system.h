@@ -5,12 +5,14 @@
 /// @details Where each part runs in btDiscreteDynamicsWorld's step:
 /// 1. Narrowphase (SdfccdCollisionAlgorithm -> processPair): for each pair, each body in each role (shell of
 ///    A vs field of B, then shell of B vs field of A; a btStaticPlaneShape is an analytic PlaneField and only
-///    a field), the rigid CCD runs over the step's motion: start = the body's current transform, end = its
-///    motion integrated over the step from the velocity *plus* the forces Bullet will add (gravity and
-///    applied forces, the same symplectic Euler step integrateVelocities/integrateTransforms perform), which
-///    is the actual end of the step because our contacts add no solver rows. (getInterpolationWorldTransform
-///    at this point omits gravity: it is off by g dt^2.) The continuous penalty model integrates impulse and
-///    angular impulse over the contact sub-intervals (eqs. 3-4) — or the discrete model at the end pose.
+///    a field; a btBoxShape, btSphereShape or btCapsuleShape is an analytic field and points sampled on its
+///    surface, so it takes both roles like ours), the rigid CCD runs over the step's motion: start = the
+///    body's current transform, end = its motion integrated over the step from the velocity *plus* the forces
+///    Bullet will add (gravity and applied forces, the same symplectic Euler step integrateVelocities/
+///    integrateTransforms perform), which is the actual end of the step because our contacts add no solver
+///    rows. (getInterpolationWorldTransform at this point omits gravity: it is off by g dt^2.) The continuous
+///    penalty model integrates impulse and angular impulse over the contact sub-intervals (eqs. 3-4) — or the
+///    discrete model at the end pose.
 /// 2. The impulses I and M reach the velocities as impulses (eq. 5: the averaged force F* = I/dt acting over
 ///    a step is the impulse F* dt; forces applied with applyCentralForce would accumulate over substeps
 ///    until clearForces). When, is a setting (SdfccdForceTiming): the paper's "over the next step" (in
@@ -39,16 +41,19 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "sdfccd/math_types.h"
 #include "sdfccd/penalty_model.h"
+#include "sdfccd/point_tree.h"
 #include "sdfccd/rigid_ccd.h"
 
 class btCollisionDispatcher;
 class btCollisionObject;
 class btCollisionObjectWrapper;
+class btCollisionShape;
 class btCollisionAlgorithmCreateFunc;
 class btDiscreteDynamicsWorld;
 class btManifoldResult;
@@ -80,6 +85,11 @@ struct SdfccdContactSettings {
   bool useTree = true;                   ///< point tree (true) or point by point (the linear baseline)
   OctreeMode octree = OctreeMode::Full;  ///< cell skipping in grid fields
   int maxManifoldPoints = 4;             ///< manifold points reported per pair (0..4)
+  /// Bullet convex shapes (box, sphere, capsule) against our field: the spacing of the points sampled on
+  /// their surface, in cells of the field they meet, and at most 1/16 of the shape's thinnest size (beyond
+  /// the paper; see registerWith()).
+  double convexPointSpacingCells = 1.0;
+  int convexMaxPoints = 20000;  ///< cap on the points sampled on one convex shape
   /// Benchmarks: every n-th step (n > 0) each query is repeated point by point (useTree = false), result
   /// discarded, and timed into SdfccdContactStatistics::shadowLinearSeconds (paper Table 4: linear vs tree
   /// on the very same motion). 0: off.
@@ -135,7 +145,11 @@ class SdfccdContactSystem : public btActionInterface {
   /// Takes effect at the next step. Throws sdfccd::Error on bad values.
   void setSettings(const SdfccdContactSettings& settings);
 
-  /// Overwrites every dispatcher entry involving CUSTOM_CONCAVE_SHAPE_TYPE (see sdfccd_shape.h). The
+  /// Overwrites every dispatcher entry involving CUSTOM_CONCAVE_SHAPE_TYPE (see sdfccd_shape.h). Our
+  /// algorithm for (ours, X) and (X, ours), contacts and closest points, with X = ours, btStaticPlaneShape,
+  /// btBoxShape, btSphereShape, btCapsuleShape (X/Y/Z); btEmptyAlgorithm for every other X. A convex X takes
+  /// both roles like ours: its surface points (sampled once per size, convexPointSpacingCells) against our
+  /// field, and our shell against its exact analytic field (BoxField, SphereField, CapsuleField). The
   /// create functions are owned by this object: keep it alive as long as the dispatcher.
   void registerWith(btCollisionDispatcher& dispatcher);
 
@@ -164,12 +178,15 @@ class SdfccdContactSystem : public btActionInterface {
   struct Role;
   BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep);
   void applyPenaltyImpulses(const Record& record);
+  /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
+  const PointTree& convexShellTree(const btCollisionShape* shape, double fieldCellSize);
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
 
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
+  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;

@@ -13,9 +13,9 @@
 ///   a convex support mapping, which a bowl or a bunny is not.
 /// - 29 is also SDF_SHAPE_PROXYTYPE: Bullet's default convex-vs-concave algorithm would cast this shape to
 ///   btSdfCollisionShape. registerSdfccdAlgorithms() therefore overwrites *every* dispatcher entry that
-///   involves type 29, both orders, for contacts and closest points: (ours, ours) and (ours, static plane)
-///   get our algorithm; every other pair gets btEmptyAlgorithm (no contact; counted in the contact system's
-///   statistics). Consequence: btSdfCollisionShape cannot be used in the same world.
+///   involves type 29, both orders, for contacts and closest points: (ours, ours), (ours, static plane) and
+///   (ours, box | sphere | capsule) get our algorithm; every other pair gets btEmptyAlgorithm (no contact;
+///   counted in the contact system's statistics). Consequence: btSdfCollisionShape cannot be used in the same world.
 /// - Bullet's own swept-sphere CCD runs only for convex shapes, so it never interferes with ours.
 ///
 /// Scaling: uniform scale is baked into the model when it is built (SdfccdBodyModelSettings::scale);
