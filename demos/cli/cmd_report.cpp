@@ -167,6 +167,7 @@ SectionOutcome runSection(const ReportEntry& entry, const ReportContext& base, i
   bar.finish();
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (outcome.failed) {
+    std::replace(outcome.error.begin(), outcome.error.end(), '\n', ' ');  // one line (gnuplot quotes its log)
     std::fprintf(stderr, "report: section '%s' failed: %s\n", entry.id.c_str(), outcome.error.c_str());
     outcome.section.ok = false;
     outcome.section.markdown = "## " + entry.title + "\n\n**FAILED**: " + outcome.error + "\n";
