@@ -39,8 +39,8 @@ inline RigidCcdScratch& rigidCcdScratch() {
   return scratch;
 }
 
-/// Does segment [a, b] meet the box? (slab test)
-inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box) {
+/// Does segment [a, b] meet the box? (slab test) `outEnter`: the fraction where it enters the box (0 if a is inside).
+inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box, double& outEnter) {
   double t0 = 0.0;
   double t1 = 1.0;
   const Vec3 d = b - a;
@@ -57,6 +57,7 @@ inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box) {
     t1 = std::min(t1, leave);
     if (t0 > t1) return false;
   }
+  outEnter = t0;
   return true;
 }
 
@@ -115,18 +116,23 @@ class RigidCcdQuery {
     const double rho = m_tree.radius(node);
     // Slack against rounding: the points' segments are computed with different roundings than the centre's.
     const double reach = m_bounds.lipschitz * rho * (1.0 + 1e-9);
-    if (m_bounds.bounded) {
-      const Box3 grown(m_bounds.box.min() - Vec3::Constant(rho), m_bounds.box.max() + Vec3::Constant(rho));
-      if (!segmentMeetsBox(c0, c1, grown)) return false;  // no point below can enter the box
-      if (m_bounds.boundaryMin - reach <= m_settings.sigma &&
-          !(m_bounds.box.contains(c0) && m_bounds.box.contains(c1))) {
-        return true;  // the centre passes outside the box near a face low enough to touch: keep (conservative)
-      }
-    }
     const double sigmaNode = m_settings.sigma + reach;
     // The part of [c0, c1] up to tLimit, as a fraction of [c0, c1] (with a margin against rounding).
     const double reachFraction =
         tLimit >= 1.0 ? 1.0 : std::min(1.0, (tLimit - tStart) / (1.0 - tStart) + kFractionSlack);
+    if (m_bounds.bounded) {
+      const Box3 grown(m_bounds.box.min() - Vec3::Constant(rho), m_bounds.box.max() + Vec3::Constant(rho));
+      double enter = 0.0;
+      if (!segmentMeetsBox(c0, c1, grown, enter)) return false;  // no point below can enter the box
+      if (m_bounds.boundaryMin - reach <= m_settings.sigma &&
+          !(m_bounds.box.contains(c0) && m_bounds.box.contains(c1))) {
+        // The centre passes outside the box near a face low enough to touch: keep (conservative), but no point
+        // below touches before the centre comes within rho of the box.
+        if (enter > reachFraction) return false;
+        outFirst = std::max(tStart, tStart + enter * (1.0 - tStart) - 1e-9);
+        return true;
+      }
+    }
     // Lipschitz early-out (short steps, the simulation case): phi along the segment stays above
     // phi(c0) - lipschitz * |c1 - c0|, on the part inside the box when c0 is (the box is convex).
     if (!m_bounds.bounded || m_bounds.box.contains(c0)) {
