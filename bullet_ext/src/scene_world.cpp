@@ -140,6 +140,29 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
   return s;
 }
 
+std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& b, const SdfccdBodyModel& model,
+                                                btCollisionShape* shape, bool maySleep) {
+  const Rigid worldFromBody = worldFromBodyAt(model.modelFromBody(), b.position, b.orientation);
+  const Quat q(worldFromBody.linear());
+  btTransform start(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
+                    toBt(Vec3(worldFromBody.translation())));
+  const btScalar mass = b.isStatic ? btScalar(0) : btScalar(b.mass);
+  const btVector3 inertia = b.isStatic ? btVector3(0, 0, 0) : toBt(model.principalInertia(double(mass)));
+  btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
+  info.m_startWorldTransform = start;
+  auto body = std::make_unique<btRigidBody>(info);
+  if (!b.isStatic) {
+    body->setLinearVelocity(toBt(b.velocity));
+    if (scene.has("rotation")) {
+      body->setAngularVelocity(toBt(b.angularVelocity));
+    } else {
+      body->setAngularFactor(btVector3(0, 0, 0));  // no rotation effect: the bodies only translate
+    }
+    if (!maySleep || !scene.sleeping) body->setActivationState(DISABLE_DEACTIVATION);
+  }
+  return body;
+}
+
 SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) : m_scene(scene) {
   if (settings.model) m_scene.contact.model = *settings.model;
   if (settings.timestep) {
@@ -205,25 +228,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
     const SceneBody& b = m_scene.bodies[i];
     const SdfccdBodyModel& model = *m_models[i];
     auto shape = std::make_unique<SdfccdShape>(m_models[i]);
-    const Rigid worldFromBody = worldFromBodyAt(model.modelFromBody(), b.position, b.orientation);
-    const Quat q(worldFromBody.linear());
-    btTransform start(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
-                      toBt(Vec3(worldFromBody.translation())));
-    const btScalar mass = b.isStatic ? btScalar(0) : btScalar(b.mass);
-    btVector3 inertia(0, 0, 0);
-    if (!b.isStatic) shape->calculateLocalInertia(mass, inertia);
-    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape.get(), inertia);
-    info.m_startWorldTransform = start;
-    auto body = std::make_unique<btRigidBody>(info);
-    if (!b.isStatic) {
-      body->setLinearVelocity(toBt(b.velocity));
-      if (m_scene.has("rotation")) {
-        body->setAngularVelocity(toBt(b.angularVelocity));
-      } else {
-        body->setAngularFactor(btVector3(0, 0, 0));  // no rotation effect: the bodies only translate
-      }
-    }
-    if ((!settings.allowSleeping || !m_scene.sleeping) && !b.isStatic) body->setActivationState(DISABLE_DEACTIVATION);
+    auto body = makeSceneRigidBody(m_scene, b, model, shape.get(), settings.allowSleeping);
     m_world->addRigidBody(body.get());
     m_bodies.push_back(body.get());
     m_bullet->shapes.push_back(std::move(shape));

@@ -15,18 +15,28 @@
 ///    largest stable timestep the discrete stiffness is lowered (x0.7 per try) until stable, and the two max
 ///    penetrations are compared (paper: discrete 2.75x deeper). "Stable": kStabilityCriterion
 ///    (bullet_stability_search.h, shared with the report's `stability` section).
+/// 3. The peer in the same run (not in the paper): the 20-bunny drop (drop-bunnies, as shipped) in our world
+///    and in a plain Bullet world with btGImpactMeshShape (gimpact_peer.h: same bodies, masses, poses,
+///    timestep and ground; Bullet's defaults otherwise), stepped in turns: step time (thread CPU and wall),
+///    max penetration (penetration_probe.h: mesh vertices below the ground and inside the other body's
+///    field, measured the same way for both, every --peer-every frames) and tunnelled bodies.
 #if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench/bullet_stability_search.h"
+#include "bench/gimpact_peer.h"
+#include "bench/penetration_probe.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
@@ -42,6 +52,7 @@ struct BenchBulletOptions {
   std::string cache = "out/cache";
   std::string part = "all";
   std::string forceTiming = "same_step";
+  int peerEvery = 1;  // penetration measured every n-th frame in the peer comparison
 };
 
 struct Table4Row {
@@ -162,16 +173,126 @@ void runFig10a(const BenchBulletOptions& o) {
   csvRow("fig10a", "continuous_at_largest_dt", "max_penetration_cells", continuousPenetration);
 }
 
+// CPU time of the calling thread (s): both worlds step on this thread, and the machine may be shared.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+void runPeer(const BenchBulletOptions& o) {
+  const Scene scene = loadScene(o.scenes + "/drop-bunnies.json");
+  const int frames = o.quick ? scene.frames / 4 : scene.frames;
+  SceneWorldSettings settings;
+  settings.cacheDir = o.cache;  // sleeping as the scene says, in both worlds
+  SceneWorld ours(scene, settings);
+  std::vector<std::shared_ptr<const SdfccdBodyModel>> models;
+  std::vector<bool> isStatic;
+  for (int i = 0; i < ours.bodyCount(); ++i) {
+    models.push_back(ours.modelPtr(i));
+    isStatic.push_back(ours.isStatic(i));
+  }
+  GImpactPeer peer(scene, models);
+  const PenetrationProbe probe(models, isStatic,
+                               scene.has("ground") ? std::optional<double>(scene.groundHeight) : std::nullopt);
+  auto oursPoses = [&]() {
+    std::vector<Rigid> poses;
+    for (int i = 0; i < ours.bodyCount(); ++i) {
+      const SceneBodyState s = ours.bodyState(i);
+      Rigid r = Rigid::Identity();
+      r.linear() = s.orientation.normalized().toRotationMatrix();
+      r.translation() = s.position;
+      poses.push_back(r);
+    }
+    return poses;
+  };
+  auto peerPoses = [&]() {
+    std::vector<Rigid> poses;
+    for (int i = 0; i < peer.bodyCount(); ++i) poses.push_back(peer.worldFromBody(i));
+    return poses;
+  };
+  std::printf(
+      "\nThe peer (not in the paper): %s, %d bodies, %d frames of %.4f s, effects %s\n"
+      "  Bullet's own: btGImpactMeshShape (%zu triangles per bunny, triangle margin %.3f m), "
+      "btGImpactCollisionAlgorithm, btStaticPlaneShape ground,\n"
+      "  btSequentialImpulseConstraintSolver (%d iterations), default friction/restitution, no swept-sphere CCD.\n",
+      scene.name.c_str(), ours.bodyCount(), frames, scene.timestep, scene.effectList().c_str(),
+      models.empty() ? std::size_t(0) : models[0]->meshInBody().triangles.size(), peer.margin(),
+      peer.solverIterations());
+  std::fflush(stdout);
+  double cpu[2] = {0.0, 0.0};  // thread CPU time of the steps (s): ours, the peer
+  double wall[2] = {0.0, 0.0};
+  PenetrationSample deepest[2];
+  for (int f = 0; f < frames; ++f) {
+    for (int w = 0; w < 2; ++w) {
+      const double cpuStart = threadCpuSeconds();
+      const auto wallStart = std::chrono::steady_clock::now();
+      if (w == 0) {
+        ours.step();
+      } else {
+        peer.step();
+      }
+      wall[w] += std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+      cpu[w] += threadCpuSeconds() - cpuStart;
+    }
+    if (f % o.peerEvery != 0 && f + 1 != frames) continue;
+    const PenetrationSample now[2] = {probe.measure(oursPoses()), probe.measure(peerPoses())};
+    for (int w = 0; w < 2; ++w) {
+      deepest[w].groundMetres = std::max(deepest[w].groundMetres, now[w].groundMetres);
+      deepest[w].bodyMetres = std::max(deepest[w].bodyMetres, now[w].bodyMetres);
+    }
+    if ((f + 1) % 100 == 0) {
+      std::fprintf(stderr, "  peer: frame %d/%d, step CPU ours %.2f s, GImpact %.2f s\n", f + 1, frames, cpu[0],
+                   cpu[1]);
+    }
+  }
+  const std::vector<int> tunneled[2] = {probe.tunneled(oursPoses()), probe.tunneled(peerPoses())};
+  const double cell = probe.cellSize();
+  std::printf("%-38s %16s %16s %9s\n", "", "ours (SdfccdShape)", "Bullet GImpact", "GImpact/ours");
+  std::printf("%-38s %16.2f %16.2f %8.2fx\n", "step time, thread CPU (s)", cpu[0], cpu[1],
+              cpu[0] > 0 ? cpu[1] / cpu[0] : 0.0);
+  std::printf("%-38s %16.2f %16.2f %8.2fx\n", "step time, wall (s)", wall[0], wall[1],
+              wall[0] > 0 ? wall[1] / wall[0] : 0.0);
+  std::printf("%-38s %9.2f (%4.1f mm) %9.2f (%4.1f mm)\n", "max penetration into the ground, cells",
+              deepest[0].groundMetres / cell, 1e3 * deepest[0].groundMetres, deepest[1].groundMetres / cell,
+              1e3 * deepest[1].groundMetres);
+  std::printf("%-38s %9.2f (%4.1f mm) %9.2f (%4.1f mm)\n", "max penetration body into body, cells",
+              deepest[0].bodyMetres / cell, 1e3 * deepest[0].bodyMetres, deepest[1].bodyMetres / cell,
+              1e3 * deepest[1].bodyMetres);
+  std::printf("%-38s %16zu %16zu\n", "tunnelled bodies", tunneled[0].size(), tunneled[1].size());
+  std::printf(
+      "Penetration: mesh vertices (%zu per bunny) below the ground and in the other bunny's field (cell %.2f mm), "
+      "every %d frame(s); ours' own contact report (shell points): %.2f cells. The paper has no such figure.\n",
+      models.empty() ? std::size_t(0) : models[0]->meshInBody().vertices.size(), 1e3 * cell, o.peerEvery,
+      ours.maxPenetrationCells());
+  const char* names[2] = {"ours", "gimpact"};
+  for (int w = 0; w < 2; ++w) {
+    csvRow("peer", names[w], "step_cpu_seconds", cpu[w]);
+    csvRow("peer", names[w], "step_wall_seconds", wall[w]);
+    csvRow("peer", names[w], "max_ground_penetration_cells", deepest[w].groundMetres / cell);
+    csvRow("peer", names[w], "max_body_penetration_cells", deepest[w].bodyMetres / cell);
+    csvRow("peer", names[w], "max_ground_penetration_m", deepest[w].groundMetres);
+    csvRow("peer", names[w], "max_body_penetration_m", deepest[w].bodyMetres);
+    csvRow("peer", names[w], "tunneled_bodies", double(tunneled[w].size()));
+  }
+  csvRow("peer", "frames", "frames", frames);
+  csvRow("peer", "gimpact", "margin_m", peer.margin());
+}
+
 int runBenchBullet(const BenchBulletOptions& o) {
-  if (o.part != "all" && o.part != "table4" && o.part != "fig10a") throw Error("--part must be all, table4 or fig10a");
+  if (o.part != "all" && o.part != "table4" && o.part != "fig10a" && o.part != "peer") {
+    throw Error("--part must be all, table4, fig10a or peer");
+  }
+  if (o.peerEvery < 1) throw Error("--peer-every must be >= 1");
   if (o.forceTiming != "next_step" && o.forceTiming != "same_step") {
     throw Error("--force-timing must be next_step or same_step");
   }
   std::printf("sdfccd bench bullet%s -- %s\n", o.quick ? " --quick" : "", machineDescription().c_str());
   g_csv.str("");
   g_csv << "part,item,key,value\n";
-  if (o.part != "fig10a") runTable4(o);
-  if (o.part != "table4") runFig10a(o);
+  if (o.part == "all" || o.part == "table4") runTable4(o);
+  if (o.part == "all" || o.part == "fig10a") runFig10a(o);
+  if (o.part == "all" || o.part == "peer") runPeer(o);
   if (!o.csv.empty()) {
     writeFileAtomically(o.csv, g_csv.str());
     std::printf("wrote %s\n", o.csv.c_str());
@@ -179,14 +300,17 @@ int runBenchBullet(const BenchBulletOptions& o) {
   return 0;
 }
 
-const BenchRegistrar registrar("bullet", "Table 4 (CCD linear vs tree in drops) and Fig. 10a (stability)",
+const BenchRegistrar registrar("bullet",
+                               "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer",
                                [](CLI::App& sub) {
                                  auto o = std::make_shared<BenchBulletOptions>();
                                  sub.add_flag("--quick", o->quick, "A quarter of the frames, fewer timesteps");
                                  sub.add_option("--out", o->csv, "CSV output (default bench_bullet.csv; empty: none)");
                                  sub.add_option("--scenes", o->scenes, "Scene folder (default assets/scenes)");
                                  sub.add_option("--cache", o->cache, "Body model cache (default out/cache)");
-                                 sub.add_option("--part", o->part, "all, table4 or fig10a");
+                                 sub.add_option("--part", o->part, "all, table4, fig10a or peer");
+                                 sub.add_option("--peer-every", o->peerEvery,
+                                                "Peer: measure penetration every n-th frame (default 1)");
                                  sub.add_option("--force-timing", o->forceTiming,
                                                 "Fig. 10a force timing: same_step (default) or next_step (the paper)");
                                  return std::function<int()>([o]() { return runBenchBullet(*o); });

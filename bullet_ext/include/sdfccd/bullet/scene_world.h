@@ -23,6 +23,7 @@
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/progress.h"
 
+class btCollisionShape;
 class btDiscreteDynamicsWorld;
 class btRigidBody;
 
@@ -81,6 +82,7 @@ class SceneWorld {
   bool isStatic(int i) const { return m_scene.bodies[static_cast<std::size_t>(i)].isStatic; }
   SceneBodyState bodyState(int i) const;
   const SdfccdBodyModel& model(int i) const { return *m_models[static_cast<std::size_t>(i)]; }
+  const std::shared_ptr<const SdfccdBodyModel>& modelPtr(int i) const { return m_models[static_cast<std::size_t>(i)]; }
   btRigidBody& body(int i) { return *m_bodies[static_cast<std::size_t>(i)]; }
   btDiscreteDynamicsWorld& world() { return *m_world; }
   SdfccdContactSystem& contacts() { return *m_contacts; }
@@ -118,5 +120,12 @@ class SceneWorld {
 
 /// The contact settings a scene asks for (effects applied: damping and rotation integrals only if listed).
 SdfccdContactSettings contactSettingsFor(const Scene& scene);
+
+/// The Bullet rigid body of `body` (one of scene.bodies) with any collision shape (ours in SceneWorld, Bullet's
+/// own in a benchmark peer): the start pose of worldFromBodyAt (mass_properties.h), the mass (0 when static),
+/// the principal inertia of `model`'s solid, the start velocities, no rotation without the "rotation" effect,
+/// and never asleep unless `maySleep` and the scene allows it. The caller adds it to a world.
+std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& body, const SdfccdBodyModel& model,
+                                                btCollisionShape* shape, bool maySleep);
 
 }  // namespace sdfccd

@@ -1,0 +1,118 @@
+/// @file
+/// @brief GImpactPeer (see gimpact_peer.h).
+#if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
+#include "bench/gimpact_peer.h"
+
+#include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
+#include <BulletCollision/Gimpact/btGImpactShape.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <map>
+
+#include "sdfccd/bullet/scene_world.h"
+#include "sdfccd/error.h"
+
+namespace sdfccd::cli {
+
+/// One mesh in Bullet's single precision, and the GImpact shape over it (shared by the bodies of one model).
+struct GImpactPeerMesh {
+  std::vector<btScalar> vertices;
+  std::vector<int> indices;
+  std::unique_ptr<btTriangleIndexVertexArray> array;
+  std::unique_ptr<btGImpactMeshShape> shape;
+};
+
+/// Bullet's objects, destroyed in the right order.
+struct GImpactPeerBullet {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::map<const SdfccdBodyModel*, std::unique_ptr<GImpactPeerMesh>> meshes;
+  std::unique_ptr<btStaticPlaneShape> groundShape;
+  std::vector<std::unique_ptr<btRigidBody>> statics;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;  // one per scene body, in scene order
+  ~GImpactPeerBullet() {
+    for (auto& b : bodies) world.removeRigidBody(b.get());
+    for (auto& b : statics) world.removeRigidBody(b.get());
+  }
+};
+
+namespace {
+
+btVector3 toBt(const Vec3& v) {
+  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
+}
+
+std::unique_ptr<GImpactPeerMesh> makeMesh(const TriangleMesh& meshInBody) {
+  auto mesh = std::make_unique<GImpactPeerMesh>();
+  for (const Vec3& v : meshInBody.vertices) {
+    for (int k = 0; k < 3; ++k) mesh->vertices.push_back(btScalar(v[k]));
+  }
+  for (const auto& t : meshInBody.triangles) mesh->indices.insert(mesh->indices.end(), t.begin(), t.end());
+  mesh->array = std::make_unique<btTriangleIndexVertexArray>(
+      static_cast<int>(meshInBody.triangles.size()), mesh->indices.data(), static_cast<int>(3 * sizeof(int)),
+      static_cast<int>(meshInBody.vertices.size()), mesh->vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
+  mesh->shape = std::make_unique<btGImpactMeshShape>(mesh->array.get());
+  mesh->shape->updateBound();  // GImpact needs its bounding volumes built before the first step
+  return mesh;
+}
+
+}  // namespace
+
+GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const SdfccdBodyModel>>& models)
+    : m_bullet(std::make_unique<GImpactPeerBullet>()), m_timestep(scene.timestep) {
+  if (models.size() != scene.bodies.size()) throw Error("GImpactPeer: one model per scene body is needed");
+  btGImpactCollisionAlgorithm::registerAlgorithm(&m_bullet->dispatcher);
+  btDiscreteDynamicsWorld& world = m_bullet->world;
+  world.setGravity(scene.has("gravity") ? toBt(scene.gravity) : btVector3(0, 0, 0));
+  if (scene.has("ground")) {
+    m_bullet->groundShape = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(scene.groundHeight));
+    btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, m_bullet->groundShape.get());
+    m_bullet->statics.push_back(std::make_unique<btRigidBody>(info));
+    world.addRigidBody(m_bullet->statics.back().get());
+  }
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const SceneBody& b = scene.bodies[i];
+    const SdfccdBodyModel& model = *models[i];
+    auto& mesh = m_bullet->meshes[&model];
+    if (!mesh) mesh = makeMesh(model.meshInBody());
+    auto body = makeSceneRigidBody(scene, b, model, mesh->shape.get(), true);  // sleeping as the scene says
+    world.addRigidBody(body.get());
+    m_bullet->bodies.push_back(std::move(body));
+  }
+}
+
+GImpactPeer::~GImpactPeer() = default;
+
+void GImpactPeer::step() {
+  m_bullet->world.stepSimulation(btScalar(m_timestep), 0);
+}
+
+int GImpactPeer::bodyCount() const {
+  return static_cast<int>(m_bullet->bodies.size());
+}
+
+Rigid GImpactPeer::worldFromBody(int i) const {
+  const btTransform& t = m_bullet->bodies[static_cast<std::size_t>(i)]->getWorldTransform();
+  const btQuaternion q = t.getRotation();
+  Rigid r = Rigid::Identity();
+  r.linear() = Quat(q.w(), q.x(), q.y(), q.z()).normalized().toRotationMatrix();
+  r.translation() = Vec3(t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z());
+  return r;
+}
+
+double GImpactPeer::margin() const {
+  if (m_bullet->meshes.empty()) return 0.0;
+  const btGImpactMeshShape& shape = *m_bullet->meshes.begin()->second->shape;
+  return shape.getMeshPartCount() > 0 ? double(shape.getMeshPart(0)->getMargin()) : double(shape.getMargin());
+}
+
+int GImpactPeer::solverIterations() const {
+  return m_bullet->world.getSolverInfo().m_numIterations;
+}
+
+}  // namespace sdfccd::cli
+
+#endif

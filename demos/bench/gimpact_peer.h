@@ -1,0 +1,49 @@
+/// @file
+/// @brief GImpactPeer: a scene's bodies in a plain Bullet world that collides them with Bullet's own
+/// btGImpactMeshShape — the peer of our plugin in `sdfccd bench bullet --part peer` (the 20-bunny drop, paper
+/// Fig. 10a; the paper has no such comparison).
+///
+/// @details The same bodies as SceneWorld: each body's mesh in its body frame (SdfccdBodyModel::meshInBody,
+/// the triangles GImpact collides) in a rigid body made by makeSceneRigidBody (scene_world.h), as SceneWorld
+/// makes its own — the same masses and inertia (from the mesh's volume, not GImpact's vertex-spread
+/// estimate), start poses, velocities and sleeping policy —, the same gravity, the same ground (a
+/// btStaticPlaneShape at the scene's height) and the same fixed step (stepSimulation(dt, 0)). Everything else is
+/// Bullet's default: btGImpactCollisionAlgorithm:: registerAlgorithm on a btCollisionDispatcher with
+/// btDefaultCollisionConfiguration, btDbvtBroadphase, btSequentialImpulseConstraintSolver (10 iterations, split impulse
+/// off), friction 0.5, restitution 0, no damping, no swept-sphere CCD, the GImpact triangle margin as constructed
+/// (margin() reports it).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "sdfccd/bullet/scene.h"
+#include "sdfccd/bullet/sdfccd_body_model.h"
+#include "sdfccd/math_types.h"
+
+namespace sdfccd::cli {
+
+class GImpactPeer {
+ public:
+  /// `models[i]` is the model of scene.bodies[i] (e.g. SceneWorld::model(i)): its mesh in the body frame and
+  /// its mass properties are used. Throws sdfccd::Error if the counts differ.
+  GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const SdfccdBodyModel>>& models);
+  ~GImpactPeer();
+  GImpactPeer(const GImpactPeer&) = delete;
+  GImpactPeer& operator=(const GImpactPeer&) = delete;
+
+  /// One Bullet step of the scene's timestep (stepSimulation(dt, 0)).
+  void step();
+
+  int bodyCount() const;
+  /// The body frame of body i in the world (centre of mass at the origin).
+  Rigid worldFromBody(int i) const;
+  double margin() const;  ///< GImpact's triangle margin (m)
+  int solverIterations() const;
+
+ private:
+  std::unique_ptr<struct GImpactPeerBullet> m_bullet;
+  double m_timestep = 0.001;  ///< s
+};
+
+}  // namespace sdfccd::cli
