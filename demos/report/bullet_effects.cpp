@@ -200,8 +200,8 @@ ReportSection runEffectsSection(const ReportContext& context) {
      << table.str() << "\n"
      << (ok ? "Every counter of an effect that is off is zero in every run, and each effect alone does work: an "
               "effect costs time only when the scene asks for it. Step times differ between runs mostly because "
-              "the motion differs (with the ground, bodies stop and stay in contact; without it they pass "
-              "through each other or fly on)."
+              "the motion differs (with the ground, bodies stop and stay in contact; without it they fly on "
+              "after their collisions; a rotating body sweeps longer paths)."
             : problems)
      << "\n\n![Step time per effect](effects_step_time.png)\n\n"
      << "Data: `effects.csv`.\n";
