@@ -15,7 +15,9 @@
 /// 2. Speed: the scene's plate (240 cells, 2.5 mm; 2,000 points) at 1 to 100 plate cells per step.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/line_plot.h"
@@ -100,8 +102,79 @@ ShotResult shoot(const Scene& base, double speed, const ThinVariant& variant, co
   return result;
 }
 
-std::string yesNo(bool v) {
-  return v ? "**yes**" : "no";
+/// One sweep: the shots of every variant at every abscissa.
+struct Sweep {
+  std::vector<double> x;                       ///< plate resolution (cells) or speed (plate cells per step)
+  std::vector<std::vector<ShotResult>> shots;  ///< [variant][index of x]
+  /// The first x at which `variant` tunnelled (0: never).
+  double firstTunnel(std::size_t variant) const {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (shots[variant][i].tunnelled) return x[i];
+    }
+    return 0.0;
+  }
+  int tunnels(std::size_t variant) const {
+    int n = 0;
+    for (const ShotResult& r : shots[variant]) n += r.tunnelled ? 1 : 0;
+    return n;
+  }
+};
+
+/// A shot's max penetration in the unit a table or plot shows.
+using DepthUnit = double (*)(const ShotResult&);
+double depthMm(const ShotResult& r) {
+  return 1000.0 * r.maxDepth;
+}
+double depthCells(const ShotResult& r) {
+  return r.maxDepth / r.plateCell;
+}
+
+// Writes a sweep as CSV, one row per shot.
+void writeSweepCsv(const std::filesystem::path& path, const char* xColumn, const Sweep& sweep) {
+  AtomicFile csv(path);
+  csv.stream() << xColumn << ",plate_cell_m,model,tunnelled,max_depth_m,max_depth_cells,field_penetration_cells\n";
+  for (std::size_t i = 0; i < sweep.x.size(); ++i) {
+    for (std::size_t v = 0; v < sweep.shots.size(); ++v) {
+      const ShotResult& r = sweep.shots[v][i];
+      csv.stream() << sweep.x[i] << ',' << r.plateCell << ",\"" << kVariants[v].label << "\"," << (r.tunnelled ? 1 : 0)
+                   << ',' << r.maxDepth << ',' << depthCells(r) << ',' << r.fieldPenetrationCells << '\n';
+    }
+  }
+  csv.commit();
+}
+
+// Draws a sweep twice: the max penetration (gaps where the bunny tunnelled) into `name`.png and tunnelled (1)
+// or stopped (0) into `name`_tunnelled.png.
+void plotSweep(const Sweep& sweep, LinePlot penetration, DepthUnit depth, const std::filesystem::path& outDir,
+               const std::string& name) {
+  LinePlot tunnel = penetration;
+  tunnel.title = "Bunny shot at the plate: tunnelled (1) or stopped (0) vs " + penetration.xLabel;
+  tunnel.yLabel = "tunnelled";
+  tunnel.style = PlotStyle::Points;
+  penetration.title += " (gaps: tunnelled)";
+  for (std::size_t v = 0; v < sweep.shots.size(); ++v) {
+    PlotSeries p{kVariants[v].label, sweep.x, {}}, t{kVariants[v].label, sweep.x, {}};
+    for (const ShotResult& r : sweep.shots[v]) {
+      p.y.push_back(r.tunnelled ? std::nan("") : depth(r));
+      t.y.push_back((r.tunnelled ? 1.0 : 0.0) + 0.03 * double(v));  // offset so the markers do not hide each other
+    }
+    penetration.series.push_back(p);
+    tunnel.series.push_back(t);
+  }
+  writeLinePlot(penetration, outDir / (name + ".png"));
+  writeLinePlot(tunnel, outDir / (name + "_tunnelled.png"));
+}
+
+// The two table cells of shot i: "tunnelled" of every variant, and their max penetrations.
+std::pair<std::string, std::string> shotCells(const Sweep& sweep, std::size_t i, DepthUnit depth) {
+  std::string tunnelled, penetration;
+  for (std::size_t v = 0; v < sweep.shots.size(); ++v) {
+    const ShotResult& r = sweep.shots[v][i];
+    const char* sep = v ? " / " : "";
+    tunnelled += sep + std::string(r.tunnelled ? "**yes**" : "no");
+    penetration += sep + (r.tunnelled ? std::string("(through)") : fmt("%.2f", depth(r)));
+  }
+  return {tunnelled, penetration};
 }
 
 ReportSection runThin(const ReportContext& ctx) {
@@ -120,7 +193,7 @@ ReportSection runThin(const ReportContext& ctx) {
   double done = 0.0;
 
   // 1. Resolution sweep (Fig. 8).
-  std::vector<std::vector<ShotResult>> byResolution(variants);
+  Sweep byResolution{{resolutions.begin(), resolutions.end()}, std::vector<std::vector<ShotResult>>(variants)};
   for (const int res : resolutions) {
     Scene scene = base;
     for (SceneBody& body : scene.bodies) {
@@ -130,12 +203,12 @@ ReportSection runThin(const ReportContext& ctx) {
       }
     }
     for (std::size_t v = 0; v < variants; ++v) {
-      byResolution[v].push_back(shoot(scene, slowSpeed, kVariants[v], ctx));
+      byResolution.shots[v].push_back(shoot(scene, slowSpeed, kVariants[v], ctx));
       ctx.progress(++done / total);
     }
   }
   // 2. Speed sweep at the scene's own plate (240 cells, 2,000 points).
-  std::vector<std::vector<ShotResult>> bySpeed(variants);
+  Sweep bySpeed{cellsPerStep, std::vector<std::vector<ShotResult>>(variants)};
   double plateCell = 0.0;
   {
     SceneWorldSettings settings;
@@ -146,95 +219,28 @@ ReportSection runThin(const ReportContext& ctx) {
   }
   for (const double cells : cellsPerStep) {
     for (std::size_t v = 0; v < variants; ++v) {
-      bySpeed[v].push_back(shoot(base, cells * plateCell / base.timestep, kVariants[v], ctx));
+      bySpeed.shots[v].push_back(shoot(base, cells * plateCell / base.timestep, kVariants[v], ctx));
       ctx.progress(++done / total);
     }
   }
 
   // Outcomes the section promises.
-  int clampTunnels = 0, discreteTunnels = 0;
-  for (const ShotResult& r : bySpeed[0]) clampTunnels += r.tunnelled ? 1 : 0;
-  for (const ShotResult& r : bySpeed[2]) discreteTunnels += r.tunnelled ? 1 : 0;
-  const bool coarseTunnels = byResolution[0].front().tunnelled;
-  const bool fineHolds = !byResolution[0].back().tunnelled;
+  const int clampTunnels = bySpeed.tunnels(0), discreteTunnels = bySpeed.tunnels(2);
+  const bool coarseTunnels = byResolution.shots[0].front().tunnelled;
+  const bool fineHolds = !byResolution.shots[0].back().tunnelled;
 
-  // CSV.
-  {
-    AtomicFile csv(ctx.outDir / "thin_resolution.csv");
-    csv.stream() << "resolution,cell_m,plate_thickness_cells,model,tunnelled,max_depth_m,max_depth_cells,"
-                    "field_penetration_cells\n";
-    for (std::size_t i = 0; i < resolutions.size(); ++i) {
-      for (std::size_t v = 0; v < variants; ++v) {
-        const ShotResult& r = byResolution[v][i];
-        csv.stream() << resolutions[i] << ',' << r.plateCell << ',' << 0.01 / r.plateCell << ",\"" << kVariants[v].label
-                     << "\"," << (r.tunnelled ? 1 : 0) << ',' << r.maxDepth << ',' << r.maxDepth / r.plateCell << ','
-                     << r.fieldPenetrationCells << '\n';
-      }
-    }
-    csv.commit();
-    AtomicFile speed(ctx.outDir / "thin_speed.csv");
-    speed.stream() << "cells_per_step,speed_m_per_s,model,tunnelled,max_depth_m,max_depth_cells,"
-                      "field_penetration_cells\n";
-    for (std::size_t i = 0; i < cellsPerStep.size(); ++i) {
-      for (std::size_t v = 0; v < variants; ++v) {
-        const ShotResult& r = bySpeed[v][i];
-        speed.stream() << cellsPerStep[i] << ',' << cellsPerStep[i] * plateCell / base.timestep << ",\""
-                       << kVariants[v].label << "\"," << (r.tunnelled ? 1 : 0) << ',' << r.maxDepth << ','
-                       << r.maxDepth / r.plateCell << ',' << r.fieldPenetrationCells << '\n';
-      }
-    }
-    speed.commit();
-  }
-
-  // Plots: true max penetration in cells (gaps where the bunny tunnelled) and a tunnelled yes/no chart.
-  {
-    LinePlot plot;
-    plot.title = "Thin plate vs field resolution (2 m/s; gaps: tunnelled)";
-    plot.xLabel = "plate field resolution (cells along 0.6 m)";
-    plot.yLabel = "max penetration (mm, exact box)";
-    plot.logX = true;
-    LinePlot tunnel = plot;
-    tunnel.title = "Thin plate vs field resolution: tunnelled (1) or stopped (0)";
-    tunnel.yLabel = "tunnelled";
-    tunnel.style = PlotStyle::Points;
-    for (std::size_t v = 0; v < variants; ++v) {
-      PlotSeries s{kVariants[v].label, {}, {}}, t{kVariants[v].label, {}, {}};
-      for (std::size_t i = 0; i < resolutions.size(); ++i) {
-        const ShotResult& r = byResolution[v][i];
-        s.x.push_back(resolutions[i]);
-        s.y.push_back(r.tunnelled ? std::nan("") : 1000.0 * r.maxDepth);
-        t.x.push_back(resolutions[i]);
-        t.y.push_back(r.tunnelled ? 1.0 + 0.03 * double(v) : 0.03 * double(v));  // offset so the lines do not hide
-      }
-      plot.series.push_back(s);
-      tunnel.series.push_back(t);
-    }
-    writeLinePlot(plot, ctx.outDir / "thin_resolution.png");
-    LinePlot speedPlot;
-    speedPlot.title = "Bunny shot at the plate: max penetration vs speed (gaps: tunnelled)";
-    speedPlot.xLabel = "speed (plate cells per step)";
-    speedPlot.yLabel = "max penetration (plate cells, exact box)";
-    speedPlot.logX = true;
-    LinePlot speedTunnel = speedPlot;
-    speedTunnel.title = "Bunny shot at the plate: tunnelled (1) or stopped (0)";
-    speedTunnel.yLabel = "tunnelled";
-    speedTunnel.style = PlotStyle::Points;
-    for (std::size_t v = 0; v < variants; ++v) {
-      PlotSeries s{kVariants[v].label, {}, {}}, t{kVariants[v].label, {}, {}};
-      for (std::size_t i = 0; i < cellsPerStep.size(); ++i) {
-        const ShotResult& r = bySpeed[v][i];
-        s.x.push_back(cellsPerStep[i]);
-        s.y.push_back(r.tunnelled ? std::nan("") : r.maxDepth / r.plateCell);
-        t.x.push_back(cellsPerStep[i]);
-        t.y.push_back(r.tunnelled ? 1.0 + 0.03 * double(v) : 0.03 * double(v));
-      }
-      speedPlot.series.push_back(s);
-      speedTunnel.series.push_back(t);
-    }
-    writeLinePlot(speedPlot, ctx.outDir / "thin_speed.png");
-    writeLinePlot(speedTunnel, ctx.outDir / "thin_speed_tunnelled.png");
-    writeLinePlot(tunnel, ctx.outDir / "thin_resolution_tunnelled.png");
-  }
+  writeSweepCsv(ctx.outDir / "thin_resolution.csv", "resolution", byResolution);
+  writeSweepCsv(ctx.outDir / "thin_speed.csv", "cells_per_step", bySpeed);
+  LinePlot plot;
+  plot.title = fmt("Thin plate vs field resolution, %.0f m/s", slowSpeed);
+  plot.xLabel = "plate field resolution (cells along 0.6 m)";
+  plot.yLabel = "max penetration (mm, exact box)";
+  plot.logX = true;
+  plotSweep(byResolution, plot, depthMm, ctx.outDir, "thin_resolution");
+  plot.title = "Bunny shot at the plate: max penetration vs speed";
+  plot.xLabel = "speed (plate cells per step)";
+  plot.yLabel = "max penetration (plate cells, exact box)";
+  plotSweep(bySpeed, plot, depthCells, ctx.outDir, "thin_speed");
 
   // Markdown.
   std::string md = "## Thin features: tunnelling vs field resolution and speed\n\n";
@@ -256,23 +262,19 @@ ReportSection runThin(const ReportContext& ctx) {
           "points "
           "against the plate's field decide alone, as the actuator's points against the landing gear's field in "
           "Fig. 8.\n\n",
-          slowSpeed, slowSpeed * base.timestep / byResolution[0].back().plateCell);
+          slowSpeed, slowSpeed * base.timestep / byResolution.shots[0].back().plateCell);
   MarkdownTable resTable({"resolution", "cell (mm)", "plate (cells)", "tunnelled: cont. + clamp / cont. / discrete",
                           "max penetration (mm): cont. + clamp / cont. / discrete"});
   for (std::size_t i = 0; i < resolutions.size(); ++i) {
-    const double cell = byResolution[0][i].plateCell;
-    std::string tun, pen;
-    for (std::size_t v = 0; v < variants; ++v) {
-      const ShotResult& r = byResolution[v][i];
-      tun += (v ? " / " : "") + yesNo(r.tunnelled);
-      pen += (v ? " / " : "") + (r.tunnelled ? std::string("(through)") : fmt("%.2f", 1000.0 * r.maxDepth));
-    }
-    resTable.addRow({fmt("%d", resolutions[i]), fmt("%.2f", 1000.0 * cell), fmt("%.2f", 0.01 / cell), tun, pen});
+    const double cell = byResolution.shots[0][i].plateCell;
+    const auto [tunnelled, penetration] = shotCells(byResolution, i, depthMm);
+    resTable.addRow(
+        {fmt("%d", resolutions[i]), fmt("%.2f", 1000.0 * cell), fmt("%.2f", 0.01 / cell), tunnelled, penetration});
   }
   md += resTable.str() + "\n";
   int finestTunnelling = 0;
   for (std::size_t i = 0; i < resolutions.size(); ++i) {
-    if (byResolution[0][i].tunnelled) finestTunnelling = resolutions[i];
+    if (byResolution.shots[0][i].tunnelled) finestTunnelling = resolutions[i];
   }
   md += fmt(
       "**Finding:** %s Every model tunnels once the plate is thinner than the field can represent, because "
@@ -300,27 +302,18 @@ ReportSection runThin(const ReportContext& ctx) {
   MarkdownTable speedTable({"cells / step", "speed (m/s)", "tunnelled: cont. + clamp / cont. / discrete",
                             "max penetration (cells): cont. + clamp / cont. / discrete"});
   for (std::size_t i = 0; i < cellsPerStep.size(); ++i) {
-    std::string tun, pen;
-    for (std::size_t v = 0; v < variants; ++v) {
-      const ShotResult& r = bySpeed[v][i];
-      tun += (v ? " / " : "") + yesNo(r.tunnelled);
-      pen += (v ? " / " : "") + (r.tunnelled ? std::string("(through)") : fmt("%.2f", r.maxDepth / r.plateCell));
-    }
-    speedTable.addRow({fmt("%g", cellsPerStep[i]), fmt("%.1f", cellsPerStep[i] * plateCell / base.timestep), tun, pen});
+    const auto [tunnelled, penetration] = shotCells(bySpeed, i, depthCells);
+    speedTable.addRow(
+        {fmt("%g", cellsPerStep[i]), fmt("%.1f", cellsPerStep[i] * plateCell / base.timestep), tunnelled, penetration});
   }
   md += speedTable.str() + "\n";
-  double firstDiscreteTunnel = 0.0;
-  for (std::size_t i = 0; i < cellsPerStep.size(); ++i) {
-    if (bySpeed[2][i].tunnelled) {
-      firstDiscreteTunnel = cellsPerStep[i];
-      break;
-    }
-  }
+  const double firstDiscreteTunnel = bySpeed.firstTunnel(2), firstPaperTunnel = bySpeed.firstTunnel(1);
   md += fmt(
       "**Finding:** the continuous model with the time-of-impact clamp tunnelled %d time(s) in %zu shots (expected: "
-      "never); the discrete model tunnelled %d time(s)%s.\n\n",
+      "never); the discrete model tunnelled %d time(s)%s; the paper's continuous model alone %s.\n\n",
       clampTunnels, cellsPerStep.size(), discreteTunnels,
-      firstDiscreteTunnel > 0 ? fmt(", from %g cells per step on", firstDiscreteTunnel).c_str() : "");
+      firstDiscreteTunnel > 0 ? fmt(", from %g cells per step on", firstDiscreteTunnel).c_str() : "",
+      firstPaperTunnel > 0 ? fmt("from %g cells per step on", firstPaperTunnel).c_str() : "never");
   md += "![max penetration vs speed](thin_speed.png)\n![tunnelled vs speed](thin_speed_tunnelled.png)\n\n";
   md += "Data: `thin_resolution.csv`, `thin_speed.csv`.\n";
 
