@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "cli/line_plot.h"
+#include "cli/markdown_table.h"
 #include "cli/report_registry.h"
 #include "cli/thread_cpu_time.h"
 #include "sdfccd/atomic_file.h"
@@ -103,12 +104,6 @@ EffectsRun runOnce(const Scene& base, const std::string& name, const std::set<st
   run.ccdMilliseconds = times[times.size() / 2][1];
   run.groundCcdMilliseconds = times[times.size() / 2][2];
   return run;
-}
-
-std::string fmt(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
 }
 
 ReportSection runEffectsSection(const ReportContext& context) {

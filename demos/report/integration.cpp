@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cli/line_plot.h"
+#include "cli/markdown_table.h"
 #include "cli/report_registry.h"
 #include "cli/thread_cpu_time.h"
 #include "sdfccd/analytic_fields.h"
@@ -228,12 +229,6 @@ std::vector<double> allKinds(const std::array<std::vector<double>, 4>& byKind) {
   std::vector<double> all;
   for (const auto& v : byKind) all.insert(all.end(), v.begin(), v.end());
   return all;
-}
-
-std::string fmt(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
 }
 
 /// A SphereField sampled on a grid of `cells`^3 cells over [-2.2, 2.2]^3 (every trajectory stays inside).

@@ -17,6 +17,7 @@
 
 #include "bench/segment_experiments.h"
 #include "cli/line_plot.h"
+#include "cli/markdown_table.h"
 #include "cli/report_registry.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/grid_field.h"
@@ -52,14 +53,8 @@ const char* modeName(OctreeMode m) {
   return m == OctreeMode::Off ? "off" : m == OctreeMode::Leaves ? "leaves" : "full";
 }
 
-std::string fmt(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
-std::string paperOrDash(double value, const char* format = "%.1f") {
-  return value > 0.0 ? fmt(format, value) : "-";
+std::string paperOrDash(double value) {
+  return value > 0.0 ? fmt("%.1f", value) : "-";
 }
 
 /// One segment set's accuracy: exact in each octree mode (worst counts kept) and bisection (full octree).
