@@ -39,6 +39,19 @@
 /// The discrete variant (continuous = false; paper Fig. 11) skips step 5: it moves to the tentative pose
 /// and takes as contacts every point with phi - sigma <= contactThreshold there.
 ///
+/// Clearance cache (clearanceCache, on by default; the results are bit-identical with it off): step 5 skips
+/// every point that provably cannot reach sigma during the move. Per point it keeps the clearance
+/// phi - sigma where it was last evaluated and the body's travel since then, bounded by the sum over cycles
+/// of |translation of the centre| + |rotation angle| * |point - centre| (a bound on every point's chord). With
+/// the field's gradient bound L (field_culling_bounds.h), phi anywhere on the point's later segments stays
+/// above clearance - L * travel (the path from the evaluation point to any later position runs inside the
+/// field's box, which is convex, where L holds; outside the box the segment query sees no contact). Points
+/// whose bound runs out are re-evaluated at the start of the move (one trilinear lookup) and queried by CCD
+/// only if the move itself can use up their clearance. The cycle then costs O(points) cheap tests, and
+/// segment queries only for the points near the surface that move towards it; without it, a body resting in
+/// a tight fit (the peg fully inserted: every side point within 0.07 voxel of the wall) re-queries every point
+/// near the wall every cycle although the god-object barely moves.
+///
 /// Frames: the shell frame is the god-object's body frame and its origin is the centre of mass.
 /// Thread safety: one GodObject per simulation thread; the tree and the field are only read.
 #pragma once
@@ -46,6 +59,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "sdfccd/error.h"
@@ -75,6 +89,7 @@ struct GodObjectSettings {
   double maxStepRotation = 0.01;                ///< rad per cycle (0: unlimited); keeps point paths near-linear
   double depthCorrection = 1.0;                 ///< gain of the outward bias for contacts below sigma (0: off)
   bool continuous = true;                       ///< false: the discrete-collision variant (Fig. 11)
+  bool clearanceCache = true;                   ///< skip points that provably cannot reach sigma (see @details)
   OctreeMode octree = OctreeMode::Leaves;       ///< cell skipping at haptic rates (Section 4.1: leaves)
   CcdMethod ccdMethod = CcdMethod::Exact;
   int threads = 1;  ///< CCD worker threads
@@ -136,6 +151,20 @@ class GodObject {
       throw Error("god object: non-finite pose");
     m_inContact.assign(static_cast<std::size_t>(tree.pointCount()), 0);
     m_notInContact.assign(static_cast<std::size_t>(tree.pointCount()), 1);
+    if (settings.clearanceCache) {
+      const std::size_t n = static_cast<std::size_t>(tree.pointCount());
+      m_bounds = fieldCullingBounds(field);
+      m_skip.assign(n, 0);
+      m_clearanceBudget.assign(n, -std::numeric_limits<float>::infinity());  // unknown: evaluate first
+      m_pointRadius.resize(n);
+      for (std::size_t p = 0; p < n; ++p) {
+        // Rounded up to float: a bound of |point - centre| (the shell frame's origin is the centre).
+        const double r = tree.shell().positions[p].norm();
+        float f = static_cast<float>(r);
+        if (static_cast<double>(f) < r) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+        m_pointRadius[p] = f;
+      }
+    }
   }
 
   /// One simulation cycle towards the device pose.
@@ -221,6 +250,11 @@ class GodObject {
     ccd.octree = m_settings.octree;
     ccd.threads = m_settings.threads;
     ccd.ignoredPoints = m_settings.ignoreContactPoints ? &m_inContact : nullptr;
+    if (m_settings.clearanceCache) {
+      markUnreachablePoints(start, end);
+      ccd.ignoredPoints = &m_skip;
+      ccd.useTree = false;  // the few points left are visited one by one (the same leaf query as the tree's)
+    }
     rigidCcd(m_tree, m_field, start, end, ccd, m_ccd);
     out.segmentQueries += m_ccd.stats.segmentQueries;
     double fraction = 1.0;
@@ -258,6 +292,53 @@ class GodObject {
       }
     }
     return std::clamp(fraction, 0.0, 1.0);
+  }
+
+  // The clearance cache (see @details): m_skip[p] = 1 for the points ignored by the rule of the last contacts and
+  // for those that cannot reach sigma on the move start -> end. Per point, m_clearanceBudget holds
+  // (phi - sigma) / L + travelTranslation + travelRotation * radius at its last evaluation (rounded down to float),
+  // so the point is safe while budget > travelTranslation + travelRotation * radius now, travel included.
+  void markUnreachablePoints(const Rigid& start, const Rigid& end) {
+    const double stepTranslation = (end.translation() - start.translation()).norm();
+    const double stepRotation = Eigen::AngleAxisd(end.linear() * start.linear().transpose()).angle();
+    const double translationBefore = m_travelTranslation;
+    const double rotationBefore = m_travelRotation;
+    // Slack against rounding in the accumulated sums.
+    m_travelTranslation += stepTranslation * (1.0 + 1e-9);
+    m_travelRotation += stepRotation * (1.0 + 1e-9);
+    const double travelT = m_travelTranslation;
+    const double travelR = m_travelRotation;
+    const double lipschitz = m_bounds.lipschitz * (1.0 + 1e-9);
+    const std::size_t n = m_skip.size();
+    const bool ignoreContacts = m_settings.ignoreContactPoints;
+    const std::vector<Vec3>& positions = m_tree.shell().positions;
+    for (std::size_t p = 0; p < n; ++p) {
+      const double radius = static_cast<double>(m_pointRadius[p]);
+      if (static_cast<double>(m_clearanceBudget[p]) > travelT + travelR * radius) {
+        m_skip[p] = 1;
+        continue;
+      }
+      m_skip[p] = 0;
+      // Out of budget: evaluate phi where the point starts this move.
+      const Vec3 pointInSdf = start * positions[p];
+      {
+        // Inside the box: phi there. Outside (the segment query sees no contact there): a path into the box
+        // crosses a face (phi >= boundaryMin) after at least the distance to the box, so L * that distance +
+        // boundaryMin plays the part of phi.
+        const double phi = m_bounds.bounded && !m_bounds.box.contains(pointInSdf)
+                               ? m_bounds.lipschitz * m_bounds.box.exteriorDistance(pointInSdf) + m_bounds.boundaryMin
+                               : m_field.distance(pointInSdf);
+        // A relative margin against the different rounding of the segment query's own evaluation of phi.
+        const double clearance = phi - m_settings.sigma - 1e-9 * (std::abs(phi) + std::abs(m_settings.sigma));
+        const double budget = clearance / lipschitz + translationBefore + rotationBefore * radius;
+        float f = static_cast<float>(budget);
+        if (static_cast<double>(f) > budget) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+        m_clearanceBudget[p] = f;
+        m_skip[p] = static_cast<double>(f) > travelT + travelR * radius;
+      }
+    }
+    if (ignoreContacts)
+      for (const GodObjectContact& c : m_contacts) m_skip[static_cast<std::size_t>(c.point)] = 1;
   }
 
   // The discrete variant: every point near the surface at the new pose.
@@ -329,6 +410,13 @@ class GodObject {
   ContactQpResult m_qpResult;
   RigidCcdResult m_ccd;
   SegmentCcdResult m_segment;
+  // The clearance cache (clearanceCache).
+  FieldCullingBounds m_bounds;
+  std::vector<std::uint8_t> m_skip;
+  std::vector<float> m_clearanceBudget;  // model units (see markUnreachablePoints)
+  std::vector<float> m_pointRadius;      // |point - centre|, rounded up
+  double m_travelTranslation = 0.0;      // sum of |centre translation| over the moves (model units)
+  double m_travelRotation = 0.0;         // sum of rotation angles over the moves (rad)
 };
 
 }  // namespace sdfccd::haptics
