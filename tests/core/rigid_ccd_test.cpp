@@ -222,12 +222,28 @@ TEST(RigidCcd, TreeEqualsLinearOnRandomShellsAndRandomGridFields) {
   EXPECT_LT(treeQueries, linearQueries);  // the tree culls
 }
 
+// Brute force: every node above a point of `linear`'s contacts passes the culling test. Returns the nodes checked.
+template <class Field>
+int expectNoNodeCulledAboveAContact(const PointTree& tree, const Field& field, const Rigid& a, const Rigid& b,
+                                    const RigidCcdSettings& s, const RigidCcdResult& linear, const std::string& what) {
+  std::vector<bool> colliding(tree.pointCount(), false);
+  for (const auto& c : linear.contacts) colliding[c.point] = true;
+  int checked = 0;
+  std::vector<int> under;
+  for (int n = 0; n < tree.nodeCount(); ++n) {
+    under.clear();
+    tree.pointsUnder(n, under);
+    if (std::none_of(under.begin(), under.end(), [&](int p) { return colliding[p]; })) continue;
+    ++checked;
+    EXPECT_TRUE(pointTreeNodeMayCollide(tree, field, n, a, b, s)) << "node " << n << " culled above a contact, " << what;
+  }
+  return checked;
+}
+
 TEST(RigidCcd, NoNodeIsCulledAboveACollidingPoint) {
   std::mt19937 rng(17);
   const GridField grid(bumpyGrid(7, 0.05));
   const PointTree tree(test::randomShell(400, 0.5, rng), PointTreeSettings{4, 2});
-  std::vector<std::vector<int>> under(tree.nodeCount());
-  for (int n = 0; n < tree.nodeCount(); ++n) tree.pointsUnder(n, under[n]);
   const Box3 poses = expanded(grid.grid().box(), 2.0);
   const PlaneField plane(Vec3(0.3, 1.0, -0.2), 0.1);
   int checkedNodes = 0;
@@ -237,25 +253,9 @@ TEST(RigidCcd, NoNodeIsCulledAboveACollidingPoint) {
     RigidCcdSettings s;
     s.sigma = config % 2 == 0 ? 0.0 : 0.03;
     s.useTree = false;
-    for (int which = 0; which < 2; ++which) {
-      RigidCcdResult linear;
-      std::vector<bool> colliding(tree.pointCount(), false);
-      if (which == 0) {
-        rigidCcd(tree, grid, a, b, s, linear);
-      } else {
-        rigidCcd(tree, plane, a, b, s, linear);
-      }
-      for (const auto& c : linear.contacts) colliding[c.point] = true;
-      for (int n = 0; n < tree.nodeCount(); ++n) {
-        bool any = false;
-        for (int p : under[n]) any = any || colliding[p];
-        if (!any) continue;
-        ++checkedNodes;
-        const bool kept = which == 0 ? pointTreeNodeMayCollide(tree, grid, n, a, b, s)
-                                     : pointTreeNodeMayCollide(tree, plane, n, a, b, s);
-        EXPECT_TRUE(kept) << "node " << n << " culled above a colliding point, config " << config;
-      }
-    }
+    const std::string what = "config " + std::to_string(config);
+    checkedNodes += expectNoNodeCulledAboveAContact(tree, grid, a, b, s, run(tree, grid, a, b, s), what + " grid");
+    checkedNodes += expectNoNodeCulledAboveAContact(tree, plane, a, b, s, run(tree, plane, a, b, s), what + " plane");
   }
   EXPECT_GT(checkedNodes, 1000);
 }
@@ -269,8 +269,6 @@ TEST(RigidCcd, NodesWhoseCentreLeavesTheBoxAreCulledOnlyWhenNoPointBelowTouches)
   const GridField grid(bumpyGrid(11, 0.02));
   const Box3 box = grid.grid().box();
   const PointTree tree(test::randomShell(300, 0.45, rng), PointTreeSettings{3, 2});
-  std::vector<std::vector<int>> under(tree.nodeCount());
-  for (int n = 0; n < tree.nodeCount(); ++n) tree.pointsUnder(n, under[n]);
   // A point near a random face of the box, up to 0.4 in or out.
   const auto nearFace = [&]() {
     Vec3 p = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
@@ -290,15 +288,7 @@ TEST(RigidCcd, NodesWhoseCentreLeavesTheBoxAreCulledOnlyWhenNoPointBelowTouches)
     const std::string what = "config " + std::to_string(config);
     const RigidCcdResult linear = checkTreeEqualsLinear(tree, grid, a, b, s, what);
     contacts += static_cast<int>(linear.contacts.size());
-    std::vector<bool> colliding(tree.pointCount(), false);
-    for (const auto& c : linear.contacts) colliding[c.point] = true;
-    for (int n = 0; n < tree.nodeCount(); ++n) {
-      bool any = false;
-      for (int p : under[n]) any = any || colliding[p];
-      if (!any) continue;
-      ++checkedNodes;
-      EXPECT_TRUE(pointTreeNodeMayCollide(tree, grid, n, a, b, s)) << "node " << n << " culled, " << what;
-    }
+    checkedNodes += expectNoNodeCulledAboveAContact(tree, grid, a, b, s, linear, what);
   }
   EXPECT_GT(contacts, 300);
   EXPECT_GT(checkedNodes, 300);
