@@ -31,8 +31,9 @@ struct LinePlot {
   PlotStyle style = PlotStyle::LinesPoints;
   std::vector<std::string> categories;  ///< for bars: one label per bar group (x values are then ignored)
   std::vector<PlotSeries> series;
-  int width = 800;   ///< pixels
-  int height = 450;  ///< pixels
+  std::string legend = "top left";  ///< where the legend goes (gnuplot `set key`), e.g. "outside right top"
+  int width = 800;                  ///< pixels
+  int height = 450;                 ///< pixels
 };
 
 /// Draws `plot` into `pngPath`. Throws sdfccd::Error when gnuplot is missing, the plot is empty or malformed
