@@ -151,6 +151,7 @@ void plotSweep(const Sweep& sweep, LinePlot penetration, DepthUnit depth, const 
   tunnel.title = "Bunny shot at the plate: tunnelled (1) or stopped (0) vs " + penetration.xLabel;
   tunnel.yLabel = "tunnelled";
   tunnel.style = PlotStyle::Points;
+  tunnel.legend = "center right";
   penetration.title += " (gaps: tunnelled)";
   for (std::size_t v = 0; v < sweep.shots.size(); ++v) {
     PlotSeries p{kVariants[v].label, sweep.x, {}}, t{kVariants[v].label, sweep.x, {}};

@@ -99,6 +99,8 @@ ReportSection runHaptics(const ReportContext& ctx) {
     penetration.title = "Haptics: max penetration per scene and method";
     penetration.yLabel = "max penetration (field cells)";
     penetration.style = PlotStyle::Bars;
+    penetration.legend = "outside right top";
+    penetration.width = 1000;
     for (const HapticCase& hc : kCases) penetration.categories.push_back(hc.scene);
     LinePlot contacts = penetration;
     contacts.title = "Haptics: largest contact count per scene and method (log scale)";
