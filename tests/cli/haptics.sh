@@ -40,6 +40,14 @@ done
 grep -q '"max_penetration_cells": 0,' "$WORK/alpha-constraint.json" || fail "alpha: constraint method penetrated"
 [ "$(ls "$WORK/cache"/alpha-puzzle-piece-*.sdf | wc -l)" -eq 1 ] || fail "alpha: expected one cached field"
 
+# The benchmark's quick run: the small alpha puzzle and the peg, both methods, one CSV row each.
+"$SDFCCD" bench haptics --quick --cache "$WORK/cache" --out "$WORK/bench.csv" > "$WORK/bench.txt" 2> "$WORK/err.txt" \
+  || fail "bench haptics --quick failed: $(cat "$WORK/err.txt")"
+head -1 "$WORK/bench.csv" | grep -q '^scene,method,points,sim_cycle_p50_ms,sim_cycle_p99_ms' || fail "bench: bad CSV header"
+[ "$(grep -c '^alpha-puzzle-small,' "$WORK/bench.csv")" -eq 2 ] || fail "bench: expected 2 alpha rows"
+[ "$(grep -c '^peg-in-hole,' "$WORK/bench.csv")" -eq 2 ] || fail "bench: expected 2 peg rows"
+grep -q "p99 < 1 ms" "$WORK/bench.txt" || fail "bench: the paper's target is not printed"
+
 # Errors: one line, non-zero exit, nothing written.
 expect_error() {
   local what="$1"; shift
