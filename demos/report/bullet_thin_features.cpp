@@ -82,18 +82,25 @@ ShotResult shoot(const Scene& base, double speed, const ThinVariant& variant, co
   SceneWorld world(scene, settings);
   const Vec3 half = scene.bodies[std::size_t(plate)].primitive->halfExtents;
   const PointShell& shell = world.model(bunny).shell();
+  // The box primitive is centred on its mesh's origin, along the mesh's axes; the body frame may be a permutation
+  // of them (principal axes), so points go world -> plate body -> plate mesh.
+  const Rigid& plateModelFromBody = world.model(plate).modelFromBody();
   for (int f = 0; f < result.frames; ++f) {
     world.step();
     const SceneBodyState p = world.bodyState(plate);
     const SceneBodyState s = world.bodyState(bunny);
+    Rigid worldFromPlate = Rigid::Identity();
+    worldFromPlate.linear() = p.orientation.toRotationMatrix();
+    worldFromPlate.translation() = p.position;
+    Rigid worldFromBunny = Rigid::Identity();
+    worldFromBunny.linear() = s.orientation.toRotationMatrix();
+    worldFromBunny.translation() = s.position;
+    const Rigid plateModelFromBunny = plateModelFromBody * worldFromPlate.inverse(Eigen::Isometry) * worldFromBunny;
     // Exact depth of each shell point inside the plate's box: min over the axes of (half extent - |offset|),
-    // taken only where it is positive on all three axes.
-    const Eigen::Matrix3d plateFromWorld = p.orientation.toRotationMatrix().transpose();
-    const Eigen::Matrix3d worldFromBunny = s.orientation.toRotationMatrix();
+    // positive only inside.
     for (const Vec3& pointInBunny : shell.positions) {
-      const Vec3 pointInPlate = plateFromWorld * (s.position + worldFromBunny * pointInBunny - p.position);
-      const double depth = (half - pointInPlate.cwiseAbs()).minCoeff();
-      result.maxDepth = std::max(result.maxDepth, depth);
+      const Vec3 pointInPlateModel = plateModelFromBunny * pointInBunny;
+      result.maxDepth = std::max(result.maxDepth, (half - pointInPlateModel.cwiseAbs()).minCoeff());
     }
   }
   result.tunnelled = !world.tunneledBodies().empty();
