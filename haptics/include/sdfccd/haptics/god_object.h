@@ -45,8 +45,10 @@
 /// of |translation of the centre| + |rotation angle| * |point - centre| (a bound on every point's chord). With
 /// the field's gradient bound L (field_culling_bounds.h), phi anywhere on the point's later segments stays
 /// above clearance - L * travel (the path from the evaluation point to any later position runs inside the
-/// field's box, which is convex, where L holds; outside the box the segment query sees no contact). Points
-/// whose bound runs out are re-evaluated at the start of the move (one trilinear lookup) and queried by CCD
+/// field's box, which is convex, where L holds; outside the box the segment query sees no contact). Grid
+/// fields use the bound of the point's neighbourhood instead (local_lipschitz_bounds.h: about 1 near a smooth
+/// wall where the global bound is sqrt(3)), valid for a travel up to its reach, after which the point is
+/// re-evaluated. Points whose bound runs out are re-evaluated at the start of the move (one trilinear lookup) and queried by CCD
 /// only if the move itself can use up their clearance. The cycle then costs O(points) cheap tests, and
 /// segment queries only for the points near the surface that move towards it; without it, a body resting in
 /// a tight fit (the peg fully inserted: every side point within 0.07 voxel of the wall) re-queries every point
@@ -60,10 +62,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/contact_qp.h"
+#include "sdfccd/haptics/local_lipschitz_bounds.h"
 #include "sdfccd/haptics/rigid_body_state.h"
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/math_types.h"
@@ -154,6 +158,7 @@ class GodObject {
     if (settings.clearanceCache) {
       const std::size_t n = static_cast<std::size_t>(tree.pointCount());
       m_bounds = fieldCullingBounds(field);
+      if constexpr (std::is_same_v<Field, GridField>) m_local = LocalLipschitzBounds(field.grid());
       m_skip.assign(n, 0);
       m_clearanceBudget.assign(n, -std::numeric_limits<float>::infinity());  // unknown: evaluate first
       m_pointRadius.resize(n);
@@ -330,7 +335,10 @@ class GodObject {
                                : m_field.distance(pointInSdf);
         // A relative margin against the different rounding of the segment query's own evaluation of phi.
         const double clearance = phi - m_settings.sigma - 1e-9 * (std::abs(phi) + std::abs(m_settings.sigma));
-        const double budget = clearance / lipschitz + translationBefore + rotationBefore * radius;
+        double allowedTravel = clearance / lipschitz;
+        if (!m_local.empty() && m_bounds.box.contains(pointInSdf))
+          allowedTravel = std::min(clearance / (m_local.lipschitzNear(pointInSdf) * (1.0 + 1e-9)), m_local.reach());
+        const double budget = allowedTravel + translationBefore + rotationBefore * radius;
         float f = static_cast<float>(budget);
         if (static_cast<double>(f) > budget) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
         m_clearanceBudget[p] = f;
@@ -412,6 +420,7 @@ class GodObject {
   SegmentCcdResult m_segment;
   // The clearance cache (clearanceCache).
   FieldCullingBounds m_bounds;
+  LocalLipschitzBounds m_local;  // grid fields only
   std::vector<std::uint8_t> m_skip;
   std::vector<float> m_clearanceBudget;  // model units (see markUnreachablePoints)
   std::vector<float> m_pointRadius;      // |point - centre|, rounded up
