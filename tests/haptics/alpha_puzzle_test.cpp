@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "sdfccd/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
@@ -85,7 +88,9 @@ TEST(AlphaPuzzleScene, ConstraintMethodSlidesAlongTheTubeWithoutPenetrating) {
 }
 
 TEST(AlphaPuzzleScene, FieldIsCachedAndReloadedIdentically) {
-  const std::filesystem::path cache = std::filesystem::temp_directory_path() / "sdfccd_alpha_cache_test";
+  // One folder per process: test runs of several builds may share the machine.
+  const std::filesystem::path cache =
+      std::filesystem::temp_directory_path() / ("sdfccd_alpha_cache_test_" + std::to_string(::getpid()));
   std::filesystem::remove_all(cache);
   HapticSceneLoadSettings load;
   load.cacheDir = cache.string();
