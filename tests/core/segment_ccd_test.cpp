@@ -526,6 +526,9 @@ TEST(SegmentCcd, MaxFractionFindsEarlierHitsAndDropsLaterOnes) {
   EXPECT_GT(checkMaxFraction(grid, around, 5, "grid"), 100);
   EXPECT_GT(checkMaxFraction(PlaneField(Vec3(0.2, 1.0, 0.1), 0.3), around, 6, "plane"), 100);
   EXPECT_GT(checkMaxFraction(SphereField(box.center(), 0.4), around, 7, "sphere"), 30);
+  const Box3 aroundOrigin(Vec3::Constant(-1.5), Vec3::Constant(1.5));
+  EXPECT_GT(checkMaxFraction(BoxField(Vec3(0.6, 0.3, 0.4)), aroundOrigin, 8, "box"), 30);
+  EXPECT_GT(checkMaxFraction(CapsuleField(0.3, 0.5, 2), aroundOrigin, 9, "capsule"), 30);
 }
 
 }  // namespace

@@ -97,6 +97,11 @@ void finishConvexQuery(const Field& field, const Vec3& p0, const Vec3& p1, doubl
   if (all) outResult.intervals.append(enter, leave);
 }
 
+// SegmentCcdSettings::maxFraction: a first hit after it is no contact (the closed forms cost the same either way).
+void limitToMaxFraction(const SegmentCcdSettings& settings, SegmentCcdResult& r) {
+  if (settings.mode == CcdMode::FirstHit && r.hit() && r.fraction > settings.maxFraction) reset(r);
+}
+
 }  // namespace
 
 PlaneField::PlaneField(const Vec3& normal, double offset) : m_normal(normal), m_offset(offset) {
@@ -109,6 +114,12 @@ PlaneField::PlaneField(const Vec3& normal, double offset) : m_normal(normal), m_
 
 void PlaneField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                   SegmentCcdResult& outResult) const {
+  intersectWholeSegment(p0InSdf, p1InSdf, settings, outResult);
+  limitToMaxFraction(settings, outResult);
+}
+
+void PlaneField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
+                                       SegmentCcdResult& outResult) const {
   reset(outResult);
   if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
     outResult.state = SegmentState::Failed;
@@ -148,6 +159,12 @@ Vec3 SphereField::gradient(const Vec3& pointInSdf) const {
 
 void SphereField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                    SegmentCcdResult& outResult) const {
+  intersectWholeSegment(p0InSdf, p1InSdf, settings, outResult);
+  limitToMaxFraction(settings, outResult);
+}
+
+void SphereField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
+                                        SegmentCcdResult& outResult) const {
   reset(outResult);
   if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
     outResult.state = SegmentState::Failed;
@@ -280,6 +297,7 @@ void BoxField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const 
   const bool found = spanOfPieces(cuts, cutCount, solvePiece, span);
   finishConvexQuery(*this, p0InSdf, p1InSdf, distance(p0InSdf) - sigma, distance(p1InSdf) - sigma, found, span,
                     settings.mode == CcdMode::AllIntervals, outResult);
+  limitToMaxFraction(settings, outResult);
 }
 
 CapsuleField::CapsuleField(double radius, double halfHeight, int axis)
@@ -335,6 +353,7 @@ void CapsuleField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, co
   const bool found = spanOfPieces(cuts, cutCount, solvePiece, span);
   finishConvexQuery(*this, p0InSdf, p1InSdf, distance(p0InSdf) - settings.sigma, distance(p1InSdf) - settings.sigma,
                     found, span, settings.mode == CcdMode::AllIntervals, outResult);
+  limitToMaxFraction(settings, outResult);
 }
 
 }  // namespace sdfccd

@@ -47,6 +47,9 @@ class PlaneField {
   }
 
  private:
+  void intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
+                             SegmentCcdResult& outResult) const;
+
   Vec3 m_normal;
   double m_offset;
 };
@@ -75,6 +78,9 @@ class SphereField {
   }
 
  private:
+  void intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
+                             SegmentCcdResult& outResult) const;
+
   Vec3 m_center;
   double m_radius;
 };
