@@ -47,8 +47,8 @@ struct BenchHapticsOptions {
   std::string csv = "bench_haptics.csv";
   std::string assets = SDFCCD_ASSETS_DIR_CLI;
   std::string cache = "out/cache";
-  std::string scenes;   // comma-separated scene names; empty: the default
-  std::string points;   // comma-separated; empty: the default sweep
+  std::string scenes;  // comma-separated scene names; empty: the default
+  std::string points;  // comma-separated; empty: the default sweep
   std::string methods = "constraint,penalty";
   double seconds = 0.0;
 };
@@ -88,11 +88,12 @@ std::string loadAverage() {
 }
 
 int runBenchHaptics(const BenchHapticsOptions& o) {
-  const std::vector<int> counts = o.points.empty() ? (o.quick ? std::vector<int>{3000} : std::vector<int>{3000, 6000, 12000, 25000})
-                                                   : parseCounts(o.points);
-  const std::vector<std::string> scenes = splitList(
-      o.scenes.empty() ? (o.quick ? "alpha-puzzle-small,peg-in-hole" : "alpha-puzzle,peg-in-hole") : o.scenes,
-      "--scenes");
+  const std::vector<int> counts = o.points.empty()
+                                      ? (o.quick ? std::vector<int>{3000} : std::vector<int>{3000, 6000, 12000, 25000})
+                                      : parseCounts(o.points);
+  const std::vector<std::string> scenes =
+      splitList(o.scenes.empty() ? (o.quick ? "alpha-puzzle-small,peg-in-hole" : "alpha-puzzle,peg-in-hole") : o.scenes,
+                "--scenes");
   std::vector<haptics::HapticMethod> methods;
   for (const std::string& m : splitList(o.methods, "--methods")) methods.push_back(haptics::parseHapticMethod(m));
   if (o.seconds < 0.0 || o.seconds > 3600.0) throw Error("--seconds must be in (0, 3600]");
@@ -100,8 +101,8 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
   std::printf("sdfccd bench haptics: virtual time, 1 simulation cycle per 1 ms haptic tick, 1 thread\n");
   std::printf("machine: %s; load average (1/5/15 min) at start: %s\n", machineDescription().c_str(),
               loadAverage().c_str());
-  std::printf("%-19s %-10s %6s %8s %8s %8s %8s %8s %8s %8s %6s %9s\n", "scene", "method", "points", "p50_ms",
-              "p99_ms", "max_ms", "cpu_p50", "cpu_p99", "max_cont", "mean_cont", "insert", "pen_cells");
+  std::printf("%-19s %-10s %6s %8s %8s %8s %8s %8s %8s %8s %6s %9s\n", "scene", "method", "points", "p50_ms", "p99_ms",
+              "max_ms", "cpu_p50", "cpu_p99", "max_cont", "mean_cont", "insert", "pen_cells");
   struct Row {
     std::string scene;
     int points;
@@ -150,8 +151,8 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
       file.stream() << r.scene << ',' << r.s.method << ',' << r.points << ',' << r.s.simCycleP50Ms << ','
                     << r.s.simCycleP99Ms << ',' << r.s.simCycleMaxMs << ',' << r.s.simCycleCpuP50Ms << ','
                     << r.s.simCycleCpuP99Ms << ',' << r.s.maxContacts << ',' << r.s.meanContacts << ','
-                    << (r.s.hasInsertCheck ? (r.s.inserted ? "1" : "0") : "") << ',' << r.s.maxPenetrationCells
-                    << ',' << r.s.stuckCycles << ",1,\"" << r.load << "\",\"" << machineDescription() << "\"\n";
+                    << (r.s.hasInsertCheck ? (r.s.inserted ? "1" : "0") : "") << ',' << r.s.maxPenetrationCells << ','
+                    << r.s.stuckCycles << ",1,\"" << r.load << "\",\"" << machineDescription() << "\"\n";
     }
     file.commit();
     std::printf("csv: %s\n", o.csv.c_str());

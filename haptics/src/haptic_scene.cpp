@@ -213,8 +213,8 @@ std::shared_ptr<const SdfGrid> meshObstacleGrid(const TriangleMesh& mesh, const 
   constexpr int kCacheVersion = 1;
   std::uint64_t key = fnv1a64(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
   key = fnv1a64(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]), key);
-  const std::string parameters = "v" + std::to_string(kCacheVersion) + " r" + std::to_string(build.resolution) +
-                                 " p" + std::to_string(build.padding) + " s" + toString(build.signMethod);
+  const std::string parameters = "v" + std::to_string(kCacheVersion) + " r" + std::to_string(build.resolution) + " p" +
+                                 std::to_string(build.padding) + " s" + toString(build.signMethod);
   key = fnv1a64(parameters.data(), parameters.size(), key);
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(key));

@@ -2,6 +2,8 @@
 /// @brief runHapticSession: the haptic loop, the simulation loop and what they record.
 #include "sdfccd/haptics/haptic_session.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -9,8 +11,6 @@
 #include <iomanip>
 #include <sstream>
 #include <thread>
-
-#include <time.h>
 
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"

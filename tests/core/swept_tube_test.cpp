@@ -1,6 +1,8 @@
 /// @file
 /// @brief makeSweptTube and the alpha puzzle piece: closed, outward, the analytic tube volume (Pappus), and
 /// the piece's geometry (no self-intersection, the interlocked pair apart but close).
+#include "sdfccd/swept_tube.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include "core/shell_test_util.h"
 #include "sdfccd/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
-#include "sdfccd/swept_tube.h"
 
 namespace sdfccd {
 namespace {
@@ -17,7 +18,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Area of the regular polygon of `segments` sides inscribed in the circle of radius r.
-double polygonArea(double r, int segments) { return 0.5 * segments * r * r * std::sin(2.0 * kPi / segments); }
+double polygonArea(double r, int segments) {
+  return 0.5 * segments * r * r * std::sin(2.0 * kPi / segments);
+}
 
 // Circumradius of three consecutive samples (the discrete radius of curvature; infinite when collinear).
 double circumradius(const Vec3& a, const Vec3& b, const Vec3& c) {

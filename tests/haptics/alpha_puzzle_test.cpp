@@ -3,13 +3,12 @@
 /// 128-cell field, 3,000 points): the pieces start interlocked and apart; the constraint method pulls one against
 /// the other's loop and slides along the tube with zero penetration; the scene file's pose frame and field cache.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
-
-#include <unistd.h>
 
 #include "sdfccd/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
@@ -27,7 +26,8 @@ std::string scenePath(const std::string& name) {
 double closestApproach(const HapticScene& scene, const Rigid& worldFromBody) {
   const Rigid sdfFromBody = scene.worldFromSdf.inverse() * worldFromBody;
   double nearest = 1e300;
-  for (const Vec3& p : scene.tree->shell().positions) nearest = std::min(nearest, scene.grid->distance(sdfFromBody * p));
+  for (const Vec3& p : scene.tree->shell().positions)
+    nearest = std::min(nearest, scene.grid->distance(sdfFromBody * p));
   return nearest;
 }
 

@@ -46,7 +46,9 @@ void expectCacheChangesNothing(const std::string& sceneFile, double seconds) {
   EXPECT_LT(cachedQueries, plainQueries / 2) << sceneFile;
 }
 
-TEST(GodObjectClearanceCache, BitIdenticalInTheTightPegFit) { expectCacheChangesNothing("peg-in-hole.json", 2.2); }
+TEST(GodObjectClearanceCache, BitIdenticalInTheTightPegFit) {
+  expectCacheChangesNothing("peg-in-hole.json", 2.2);
+}
 
 TEST(GodObjectClearanceCache, BitIdenticalSlidingAlongTheAlphaTube) {
   expectCacheChangesNothing("alpha-puzzle-small.json", 3.5);

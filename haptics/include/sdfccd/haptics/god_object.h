@@ -48,8 +48,8 @@
 /// field's box, which is convex, where L holds; outside the box the segment query sees no contact). Grid
 /// fields use the bound of the point's neighbourhood instead (local_lipschitz_bounds.h: about 1 near a smooth
 /// wall where the global bound is sqrt(3)), valid for a travel up to its reach, after which the point is
-/// re-evaluated. Points whose bound runs out are re-evaluated at the start of the move (one trilinear lookup) and queried by CCD
-/// only if the move itself can use up their clearance. The cycle then costs O(points) cheap tests, and
+/// re-evaluated. Points whose bound runs out are re-evaluated at the start of the move (one trilinear lookup) and
+/// queried by CCD only if the move itself can use up their clearance. The cycle then costs O(points) cheap tests, and
 /// segment queries only for the points near the surface that move towards it; without it, a body resting in
 /// a tight fit (the peg fully inserted: every side point within 0.07 voxel of the wall) re-queries every point
 /// near the wall every cycle although the god-object barely moves.

@@ -25,12 +25,12 @@ namespace sdfccd {
 
 /// Shape of the alpha piece (model units).
 struct AlphaPuzzlePieceSettings {
-  double loopWidth = 1.5;      ///< scale of the curve's y (the loop's width)
-  double crossingGap = 0.3;    ///< half the z separation of the curve where the loop crosses itself
-  double tailParameter = 1.45; ///< the curve parameter's end (> 1: the tails' length)
-  double radius = 0.15;        ///< tube radius
-  int samples = 320;           ///< rings along the curve (equally spaced by length)
-  int segments = 24;           ///< vertices per ring
+  double loopWidth = 1.5;       ///< scale of the curve's y (the loop's width)
+  double crossingGap = 0.3;     ///< half the z separation of the curve where the loop crosses itself
+  double tailParameter = 1.45;  ///< the curve parameter's end (> 1: the tails' length)
+  double radius = 0.15;         ///< tube radius
+  int samples = 320;            ///< rings along the curve (equally spaced by length)
+  int segments = 24;            ///< vertices per ring
 };
 
 /// The alpha curve, `settings.samples` points equally spaced by length. Throws sdfccd::Error on absurd
