@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "sdfccd/alpha_puzzle_piece.h"
@@ -109,6 +110,38 @@ TEST(AlphaPuzzleScene, FieldIsCachedAndReloadedIdentically) {
   const HapticScene rebuilt = loadHapticScene(scenePath("alpha-puzzle-small.json"), load);
   EXPECT_EQ(built.grid->grid().values(), rebuilt.grid->grid().values());
   std::filesystem::remove_all(cache);
+}
+
+TEST(AlphaPuzzleScene, BadProceduralKeysGiveOneLineErrors) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("sdfccd_alpha_bad_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto expectError = [&](const std::string& json, const std::string& key) {
+    const std::string file = (dir / "scene.json").string();
+    {
+      std::ofstream out(file);
+      out << json;
+    }
+    try {
+      loadHapticScene(file);
+      ADD_FAILURE() << "no error for " << json;
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      EXPECT_NE(what.find(key), std::string::npos) << what;
+    }
+  };
+  const std::string shell = R"("shell": {"shape": "box", "halfExtents": [0.01, 0.01, 0.01]})";
+  const std::string rest = R"("start": {"position": [0, 0.1, 0]}, "script": [{"t": 0, "position": [0, 0.1, 0]}])";
+  expectError(R"({"obstacle": {"mesh": {"procedural": "teapot"}}, )" + shell + ", " + rest + "}", "procedural");
+  expectError(R"({"obstacle": {"mesh": {"procedural": 3}}, )" + shell + ", " + rest + "}", "procedural");
+  expectError(
+      R"({"obstacle": {"mesh": {"procedural": "alpha-puzzle-piece", "scale": -1}}, )" + shell + ", " + rest + "}",
+      "scale");
+  const std::string plane = R"("obstacle": {"plane": {"normal": [0, 1, 0]}})";
+  expectError("{" + plane + R"(, "shell": {"shape": "alpha-puzzle-piece", "scale": 0}, )" + rest + "}", "scale");
+  expectError("{" + plane + ", " + shell + R"(, "poseFrame": "world", )" + rest + "}", "poseFrame");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
