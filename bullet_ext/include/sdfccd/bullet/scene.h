@@ -60,7 +60,9 @@ struct SceneContact {
   double toiDepthCells = 0.5;
   bool useTree = true;
   SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< when the penalty impulses act
-  PenaltyDirection direction = PenaltyDirection::ShellNormal;   ///< "direction": shell_normal or field_gradient
+  /// Rigid bodies default to the conservative direction: with the paper's shell normal a body resting on
+  /// edge or corner points drifts and gains energy (tests/bullet/stability_test.cpp); haptics keeps the paper's.
+  PenaltyDirection direction = PenaltyDirection::FieldGradient;   ///< "direction": shell_normal or field_gradient
 };
 
 struct Scene {
