@@ -4,6 +4,7 @@
 #include "bench/penetration_probe.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "sdfccd/error.h"
 
@@ -21,18 +22,25 @@ PenetrationProbe::PenetrationProbe(std::vector<std::shared_ptr<const SdfccdBodyM
   }
 }
 
+std::vector<double> PenetrationProbe::clearance(const std::vector<Rigid>& worldFromBody) const {
+  std::vector<double> out;
+  if (!m_groundHeight) return out;
+  for (std::size_t a = 0; a < m_models.size(); ++a) {
+    if (m_isStatic[a]) continue;
+    // Only the vertical component matters: the lowest vertex is the lowest of (row y of R) . v.
+    const Vec3 up = worldFromBody[a].linear().row(1).transpose();
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Vec3& v : m_models[a]->meshInBody().vertices) lowest = std::min(lowest, up.dot(v));
+    out.push_back(worldFromBody[a].translation().y() + lowest - *m_groundHeight);
+  }
+  return out;
+}
+
 PenetrationSample PenetrationProbe::measure(const std::vector<Rigid>& worldFromBody) const {
   PenetrationSample sample;
+  for (double c : clearance(worldFromBody)) sample.groundMetres = std::max(sample.groundMetres, -c);
   const std::size_t n = m_models.size();
   for (std::size_t a = 0; a < n; ++a) {
-    if (m_groundHeight && !m_isStatic[a]) {
-      // Only the vertical component matters: the lowest vertex is the lowest of (row y of R) . v.
-      const Vec3 up = worldFromBody[a].linear().row(1).transpose();
-      const double comY = worldFromBody[a].translation().y();
-      double lowest = 0.0;
-      for (const Vec3& v : m_models[a]->meshInBody().vertices) lowest = std::min(lowest, up.dot(v));
-      sample.groundMetres = std::max(sample.groundMetres, *m_groundHeight - (comY + lowest));
-    }
     for (std::size_t b = 0; b < n; ++b) {
       if (a == b || (m_isStatic[a] && m_isStatic[b])) continue;
       const double reach = m_radius[a] + m_radius[b];

@@ -33,6 +33,9 @@ class PenetrationProbe {
                    std::optional<double> groundHeight);
 
   PenetrationSample measure(const std::vector<Rigid>& worldFromBody) const;
+  /// Per dynamic body, the height of its lowest mesh vertex above the ground (m; negative: below). Shows where
+  /// bodies rest: a contact margin keeps them above it. Empty without a ground.
+  std::vector<double> clearance(const std::vector<Rigid>& worldFromBody) const;
   /// The dynamic bodies that tunnelled (see the file comment).
   std::vector<int> tunneled(const std::vector<Rigid>& worldFromBody) const;
   /// The largest field cell of the models (m): divide by it for cells.
