@@ -260,14 +260,27 @@ class RigidCcdQuery {
       const auto later = [](const NodeTask& a, const NodeTask& b) {
         return a.tStart > b.tStart || (a.tStart == b.tStart && a.node < b.node);
       };
-      std::vector<NodeTask>& heap = scratch.current;
-      heap.clear();
-      heap.push_back({0, 0.0});
-      while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end(), later);
-        const NodeTask task = heap.back();
-        heap.pop_back();
-        if (cannotImprove(found, best, task.tStart)) break;  // every node left starts later still
+      // Depth first until a first contact is known (a bound to prune with and to cut the walks at, found after
+      // a descent rather than after most of the upper levels), then best first on the bounds.
+      std::vector<NodeTask>& open = scratch.current;
+      open.clear();
+      open.push_back({0, 0.0});
+      bool heapOrdered = false;
+      while (!open.empty()) {
+        NodeTask task;
+        if (!found) {
+          task = open.back();
+          open.pop_back();
+        } else {
+          if (!heapOrdered) {
+            std::make_heap(open.begin(), open.end(), later);
+            heapOrdered = true;
+          }
+          std::pop_heap(open.begin(), open.end(), later);
+          task = open.back();
+          open.pop_back();
+          if (cannotImprove(found, best, task.tStart)) break;  // every node left starts later still
+        }
         const int node = task.node;
         if (childCount[node] == 0) {
           const int point = m_tree.point(node);
@@ -280,9 +293,13 @@ class RigidCcdQuery {
         double first = 0.0;
         if (!nodeMayCollide(node, task.tStart, scratch.segment, out.stats, first, found ? best : 1.0)) continue;
         if (cannotImprove(found, best, first)) continue;
-        for (int c = 0; c < childCount[node]; ++c) {
-          heap.push_back({firstChild[node] + c, first});
-          std::push_heap(heap.begin(), heap.end(), later);
+        if (!heapOrdered) {  // the first child on top of the stack
+          for (int c = childCount[node] - 1; c >= 0; --c) open.push_back({firstChild[node] + c, first});
+        } else {
+          for (int c = 0; c < childCount[node]; ++c) {
+            open.push_back({firstChild[node] + c, first});
+            std::push_heap(open.begin(), open.end(), later);
+          }
         }
       }
     }
