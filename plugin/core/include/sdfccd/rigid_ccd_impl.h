@@ -232,6 +232,51 @@ class RigidCcdQuery {
     if (contact.fraction == best) out.contacts.push_back(std::move(contact));
   }
 
+  /// earliestOnly, tree: a quick search at the step's start for a point already in contact (bodies that start
+  /// interpenetrated): a static depth-first descent culled by phi(centre) - L rho > sigma, one field lookup per
+  /// node. A point found inside is queried as the linear traversal queries it and becomes the best contact, at
+  /// fraction 0, so the search proper has nothing left to improve (one witness) or tests everything at
+  /// fraction 0 only. Nothing else is recorded.
+  bool findPointStartingInside(RigidCcdScratch& scratch, std::vector<PointContact>& candidate, bool& found,
+                               double& best, RigidCcdResult& out) const {
+    const int* firstChild = m_tree.firstChildren().data();
+    const int* childCount = m_tree.childCounts().data();
+    std::vector<NodeTask>& stack = scratch.next;
+    stack.clear();
+    stack.push_back({0, 0.0});
+    while (!stack.empty()) {
+      const int node = stack.back().node;
+      stack.pop_back();
+      const Vec3 c0 = startOf(m_tree.center(node));
+      const double rho = m_tree.radius(node);
+      const double reach = m_bounds.lipschitz * rho * (1.0 + 1e-9);
+      if (m_bounds.bounded && !m_bounds.box.contains(c0)) {
+        // Points below lie within rho of c0; inside the box phi >= boundaryMin - L rho there.
+        const Vec3 nearest = c0.cwiseMax(m_bounds.box.min()).cwiseMin(m_bounds.box.max());
+        if ((nearest - c0).norm() > rho || m_bounds.boundaryMin - reach > m_settings.sigma) continue;
+      } else if (m_field.distance(c0) - reach > m_settings.sigma) {
+        continue;
+      }
+      if (childCount[node] == 0) {
+        const int point = m_tree.point(node);
+        if (ignored(point)) continue;
+        const Vec3 p0 = startOf(m_tree.shell().positions[point]);
+        if ((m_bounds.bounded && !m_bounds.box.contains(p0)) || m_field.distance(p0) > m_settings.sigma) continue;
+        ++out.stats.nodesVisited;
+        candidate.clear();
+        queryPoint(point, scratch.segment, candidate, out.stats);  // the same query as the linear traversal's
+        if (candidate.empty() || candidate.front().fraction != 0.0) continue;
+        out.contacts.clear();
+        out.contacts.push_back(std::move(candidate.front()));
+        found = true;
+        best = 0.0;
+        return true;
+      }
+      for (int c = childCount[node] - 1; c >= 0; --c) stack.push_back({firstChild[node] + c, 0.0});
+    }
+    return false;
+  }
+
   /// earliestOnly: can nothing starting at `bound` improve on the best contact?
   bool cannotImprove(bool found, double best, double bound) const {
     return found && (bound > best || (m_settings.earliestOneContact && bound >= best));
@@ -260,6 +305,13 @@ class RigidCcdQuery {
       const auto later = [](const NodeTask& a, const NodeTask& b) {
         return a.tStart > b.tStart || (a.tStart == b.tStart && a.node < b.node);
       };
+      if (findPointStartingInside(scratch, candidate, found, best, out)) {
+        if (m_settings.earliestOneContact) {
+          out.firstFraction = 0.0;
+          return;
+        }
+        out.contacts.clear();  // the search below collects every point at fraction 0, this one included
+      }
       // Depth first until a first contact is known (a bound to prune with and to cut the walks at, found after
       // a descent rather than after most of the upper levels), then best first on the bounds.
       std::vector<NodeTask>& open = scratch.current;
