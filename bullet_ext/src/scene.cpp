@@ -283,9 +283,9 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
       r.fail("contact.force_timing", "must be same_step or next_step (got '" + timing + "')");
     }
     const std::string direction = r.string(c, "direction", "contact");
-    if (direction.empty() || direction == "field_gradient") {
+    if (direction == "field_gradient") {
       s.contact.direction = PenaltyDirection::FieldGradient;
-    } else if (direction == "shell_normal") {
+    } else if (direction.empty() || direction == "shell_normal") {
       s.contact.direction = PenaltyDirection::ShellNormal;
     } else {
       r.fail("contact.direction", "must be shell_normal or field_gradient (got '" + direction + "')");

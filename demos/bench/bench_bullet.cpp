@@ -129,6 +129,7 @@ void printTrials(const char* name, const StabilitySearch& search, bool byStiffne
 void runFig10a(const BenchBulletOptions& o) {
   Scene base = loadScene(o.scenes + "/drop-bunnies.json");
   base.effects.erase("friction");
+  base.contact.direction = PenaltyDirection::ShellNormal;  // the paper's models (Fig. 10 compares those)
   StabilityTrialSettings trial;
   trial.stiffness = base.contact.stiffness;
   trial.duration = o.quick ? 0.8 : 1.5;

@@ -79,14 +79,7 @@ enum class SdfccdForceTiming : std::uint8_t {
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
   SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< see SdfccdForceTiming
-  /// Model (continuous/discrete), stiffness, damping, subintervals, flags. The force direction defaults to the
-  /// field's gradient here (conservative: resting bodies do not drift); PenaltyDirection::ShellNormal is the
-  /// paper's choice, kept as the default of the core and of haptics.
-  PenaltySettings penalty = [] {
-    PenaltySettings p;
-    p.direction = PenaltyDirection::FieldGradient;
-    return p;
-  }();
+  PenaltySettings penalty;               ///< model (continuous/discrete), stiffness, damping, subintervals, flags
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)
   bool useTree = true;                   ///< point tree (true) or point by point (the linear baseline)
