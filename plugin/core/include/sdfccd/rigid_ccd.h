@@ -44,7 +44,7 @@ struct RigidCcdSettings {
   double cullLipschitz = 0.0;
   /// Only the earliest contact of the body (the time of impact): outResult.firstFraction and the contact(s) at
   /// that fraction (every point whose first contact is exactly firstFraction), bit-identical to the minimum of
-  /// the full query's contacts. The tree is searched best-first (branch and bound): a node whose inflated
+  /// the full query's contacts. The tree is searched depth first (branch and bound): a node whose inflated
   /// first hit comes after the best contact found so far is pruned, and once a contact is known every node
   /// and point is tested only up to it (SegmentCcdSettings::maxFraction; a point that hits there is queried
   /// again over the whole step, so its fraction is the linear query's bit for bit). The linear traversal uses

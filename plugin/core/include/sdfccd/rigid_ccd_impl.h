@@ -282,9 +282,8 @@ class RigidCcdQuery {
     return found && (bound > best || (m_settings.earliestOneContact && bound >= best));
   }
 
-  /// earliestOnly, serial. Tree: best-first search on the nodes' lower bounds (the fraction before which no
-  /// point below touches); a node whose bound exceeds the best contact found is pruned, and the search stops
-  /// when the smallest bound left does. Leaves run the same point query as the linear traversal, so the
+  /// earliestOnly, serial. Tree: depth-first branch and bound on the nodes' lower bounds (the fraction before
+  /// which no point below touches); a node whose bound exceeds the best contact found is pruned. Leaves run the same point query as the linear traversal, so the
   /// fraction is bit-identical to the minimum over the linear contacts. Ties (bound == best) are kept, so
   /// every point at the earliest fraction is returned.
   void runEarliest(RigidCcdResult& out) const {
@@ -300,11 +299,6 @@ class RigidCcdQuery {
     } else {
       const int* firstChild = m_tree.firstChildren().data();
       const int* childCount = m_tree.childCounts().data();
-      // A min-heap on the bound; ties go deepest first (the larger breadth-first index), which reaches a leaf
-      // and so a first best contact sooner, and keeps the order deterministic.
-      const auto later = [](const NodeTask& a, const NodeTask& b) {
-        return a.tStart > b.tStart || (a.tStart == b.tStart && a.node < b.node);
-      };
       if (findPointStartingInside(scratch, candidate, found, best, out)) {
         if (m_settings.earliestOneContact) {
           out.firstFraction = 0.0;
@@ -312,27 +306,17 @@ class RigidCcdQuery {
         }
         out.contacts.clear();  // the search below collects every point at fraction 0, this one included
       }
-      // Depth first until a first contact is known (a bound to prune with and to cut the walks at, found after
-      // a descent rather than after most of the upper levels), then best first on the bounds.
-      std::vector<NodeTask>& open = scratch.current;
-      open.clear();
-      open.push_back({0, 0.0});
-      bool heapOrdered = false;
-      while (!open.empty()) {
-        NodeTask task;
-        if (!found) {
-          task = open.back();
-          open.pop_back();
-        } else {
-          if (!heapOrdered) {
-            std::make_heap(open.begin(), open.end(), later);
-            heapOrdered = true;
-          }
-          std::pop_heap(open.begin(), open.end(), later);
-          task = open.back();
-          open.pop_back();
-          if (cannotImprove(found, best, task.tStart)) break;  // every node left starts later still
-        }
+      // Depth-first branch and bound: a descent reaches a first contact quickly, and every later node and point
+      // is tested only up to the best contact so far, which makes their walks short. (Measured on Table 3, it
+      // beats a best-first search on the nodes' bounds: that one tests fewer nodes, but most of them before a
+      // good bound is known.)
+      std::vector<NodeTask>& stack = scratch.current;
+      stack.clear();
+      stack.push_back({0, 0.0});
+      while (!stack.empty()) {
+        const NodeTask task = stack.back();
+        stack.pop_back();
+        if (cannotImprove(found, best, task.tStart)) continue;
         const int node = task.node;
         if (childCount[node] == 0) {
           const int point = m_tree.point(node);
@@ -345,14 +329,7 @@ class RigidCcdQuery {
         double first = 0.0;
         if (!nodeMayCollide(node, task.tStart, scratch.segment, out.stats, first, found ? best : 1.0)) continue;
         if (cannotImprove(found, best, first)) continue;
-        if (!heapOrdered) {  // the first child on top of the stack
-          for (int c = childCount[node] - 1; c >= 0; --c) open.push_back({firstChild[node] + c, first});
-        } else {
-          for (int c = 0; c < childCount[node]; ++c) {
-            open.push_back({firstChild[node] + c, first});
-            std::push_heap(open.begin(), open.end(), later);
-          }
-        }
+        for (int c = childCount[node] - 1; c >= 0; --c) stack.push_back({firstChild[node] + c, first});  // first on top
       }
     }
     std::sort(out.contacts.begin(), out.contacts.end(),
