@@ -3,12 +3,7 @@
 # model,points,configs,linear_s,tree_s,speedup (+ query, linear_cut_s, the paper's times) with the tree's answers
 # checked against the linear ones inside the benchmark (it exits non-zero when they differ); bad options fail
 # with one line. Timings are printed, never asserted.
-set -u
-tool="$1"
-assets="$2"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/lib.sh"
 
 "$tool" bench tree --quick --models bunny,bowl --configs 20 --assets "$assets" --out "$work/t3.csv" \
   > "$work/out.txt" 2> "$work/err.txt" || fail "bench tree --quick failed: $(tail -3 "$work/err.txt")"

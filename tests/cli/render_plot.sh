@@ -3,15 +3,9 @@
 # frames, contact sheet and plots are written with the right sizes; bad runs fail with one clear line.
 # Usage: bash render_plot.sh /path/to/sdfccd /path/to/assets
 set -uo pipefail
-tool="$1"
-assets="$2"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib.sh"
 failures=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# PNG width and height from the IHDR chunk (bytes 16..23, big-endian).
-png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{printf "%dx%d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'; }
 
 make_run() {  # make_run DIR MESH_PATH [REST_HEIGHT]
   mkdir -p "$1"

@@ -3,13 +3,9 @@
 # and effects sections writes report.md, report.json, CSV and PNG files, and their key numbers are sane
 # (the exact segment query misses no first hit, the midpoint error falls with N, effects that are off do no work).
 set -euo pipefail
-tool="$1"
-assets="$2"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib.sh"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-if ! "$tool" --help | grep -qE "^ +report "; then echo "skipped: built without the report command"; exit 0; fi
+skip_without report "built without the report command"
 sections="segments,integration"
 if "$tool" --help | grep -qE "^ +simulate "; then sections="$sections,effects"; fi
 

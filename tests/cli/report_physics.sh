@@ -4,24 +4,19 @@
 # with the time-of-impact clamp never tunnels through the plate, the discrete model tunnels at least once;
 # in the haptic scenes the constraint method never passes the thin wire and the discrete penalty method does.
 # Usage: report_physics.sh /path/to/sdfccd /path/to/assets
-set -u
-SDFCCD="$1"
-ASSETS="$2"
-WORK="$(mktemp -d)"
-trap 'rm -rf "$WORK"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-if ! "$SDFCCD" --help | grep -qE "^ +report "; then echo "skipped: built without the report command"; exit 0; fi
+source "$(dirname "$0")/lib.sh"
+skip_without report "built without the report command"
 ids=""
 has_simulate=0; has_haptics=0
-"$SDFCCD" --help | grep -qE "^ +simulate " && has_simulate=1
-"$SDFCCD" --help | grep -qE "^ +haptics " && has_haptics=1
+"$tool" --help | grep -qE "^ +simulate " && has_simulate=1
+"$tool" --help | grep -qE "^ +haptics " && has_haptics=1
 [ "$has_simulate" -eq 1 ] && ids="thin,stability"
 [ "$has_haptics" -eq 1 ] && ids="${ids:+$ids,}haptics"
 if [ -z "$ids" ]; then echo "skipped: built without Bullet and haptics"; exit 0; fi
 
-"$SDFCCD" report --smoke --only "$ids" --threads 2 --assets "$ASSETS" --cache "$WORK/cache" --out "$WORK/r" \
-  > "$WORK/out.txt" 2> "$WORK/err.txt" || fail "report exited non-zero: $(tail -5 "$WORK/err.txt")"
-R="$WORK/r"
+"$tool" report --smoke --only "$ids" --threads 2 --assets "$assets" --cache "$work/cache" --out "$work/r" \
+  > "$work/out.txt" 2> "$work/err.txt" || fail "report exited non-zero: $(tail -5 "$work/err.txt")"
+R="$work/r"
 [ -s "$R/report.md" ] || fail "no report.md"
 
 # Column of a CSV header by name (1-based).

@@ -1,12 +1,7 @@
 #!/usr/bin/env bash
 # cli.sample: `sdfccd sample` writes PLY/CSV shells with the requested counts; bad input fails with one line
 # on stderr, a non-zero exit and no output file.
-set -u
-tool="$1"
-assets="$2"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/lib.sh"
 
 # A tetrahedron, outward.
 cat > "$work/tet.off" <<'MESH'

@@ -2,13 +2,9 @@
 # sdfccd simulate: a run folder with frames.csv, summary.json and scene.json; the plate scene stops the bunny
 # with the continuous model and lets it tunnel with the discrete one; bad scenes fail with one line.
 set -euo pipefail
-tool="$1"
-assets="$2"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib.sh"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-if ! "$tool" --help | grep -qE "^ +simulate "; then echo "skipped: built without the Bullet plugin"; exit 0; fi
+skip_without simulate "built without the Bullet plugin"
 value() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
 
 cat > "$work/drop.json" <<'JSON'

@@ -4,17 +4,11 @@
 # Skipped when the tool has no simulate command (Bullet not built) or no renderer.
 # Usage: bash simulate_render.sh /path/to/sdfccd /path/to/assets
 set -uo pipefail
-tool="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib.sh"
 failures=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{printf "%dx%d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'; }
 
-if ! "$tool" --help | grep -qE "^ +simulate "; then
-  echo "no simulate command: skipped"
-  exit 0
-fi
+skip_without simulate "no simulate command"
 cat > "$work/scene.json" <<'JSON'
 { "name": "render-smoke", "timestep": 0.002, "frames": 60, "gravity": [0, -9.81, 0],
   "effects": ["gravity", "ground", "damping", "rotation"], "ground": { "height": 0.0 },

@@ -3,13 +3,9 @@
 # precomputed field or shell holds NaN (issue 8): each is one line on stderr naming what is wrong, a non-zero
 # exit, and no output file in the run folder (frames.csv, summary.json, scene.json are never half-written).
 set -euo pipefail
-tool="$1"
-assets="$2"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib.sh"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-if ! "$tool" --help | grep -qE "^ +simulate "; then echo "skipped: built without the Bullet plugin"; exit 0; fi
+skip_without simulate "built without the Bullet plugin"
 
 box='"primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] }, "points": 0, "resolution": 8'
 n=0
