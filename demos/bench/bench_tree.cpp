@@ -19,6 +19,7 @@
 /// a 20,000-point dragon, in seconds.
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -276,7 +277,7 @@ int runBenchTree(const BenchTreeOptions& o) {
   std::printf("machine: %s; 1 thread, CPU time of the querying thread\n", machineDescription().c_str());
   std::printf(
       "protocol: %d random pose pairs in the 3x expanded field box (motion: %s), zero level set, exact "
-      "roots, %s at the leaves; fields %d cells along the longest side (paper: 1024^3)\n",
+      "roots, %s at the leaves; fields %d cells along the longest side plus a margin of 4/256 of it (paper: 1024^3)\n",
       configs, o.motion == "random" ? "independent start and end poses" : "short steps, NOT Table 3", o.mode.c_str(),
       resolution);
   std::printf(
@@ -302,6 +303,9 @@ int runBenchTree(const BenchTreeOptions& o) {
     }
     SdfBuildSettings build;
     build.resolution = resolution;
+    // The same margin around the model at every resolution (4 cells at 256^3), so the field's box, and with it
+    // the 3x box the poses are drawn from, does not change with the resolution.
+    build.padding = std::max(1, (4 * resolution + 128) / 256);
     build.threads = 0;
     auto start = Clock::now();
     SdfBuildResult sdf;
