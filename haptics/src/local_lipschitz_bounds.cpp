@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sdfccd/cell_gradient_bound.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd::haptics {
@@ -23,27 +24,14 @@ LocalLipschitzBounds::LocalLipschitzBounds(const SdfGrid& grid, int blockCells) 
            static_cast<std::size_t>(m_blocks.x()) *
                (static_cast<std::size_t>(by) + static_cast<std::size_t>(m_blocks.y()) * static_cast<std::size_t>(bz));
   };
-  // Per block: the largest per-cell bound (squared, in value units per cell), as field_culling_bounds.cpp.
+  // Per block: the largest per-cell bound (squared, in value units per cell).
   std::vector<double> own(static_cast<std::size_t>(m_blocks.prod()), 0.0);
-  const Vec3i n = grid.nodeCounts();
-  const std::vector<float>& v = grid.values();
-  const std::size_t sy = static_cast<std::size_t>(n.x());
-  const std::size_t sz = sy * static_cast<std::size_t>(n.y());
   for (int k = 0; k < cells.z(); ++k) {
     for (int j = 0; j < cells.y(); ++j) {
       const std::size_t rowBlock = blockIndex(0, j / blockCells, k / blockCells);
       for (int i = 0; i < cells.x(); ++i) {
-        const std::size_t base = grid.index(i, j, k);
-        const double c[8] = {v[base],      v[base + 1],      v[base + sy],      v[base + 1 + sy],
-                             v[base + sz], v[base + 1 + sz], v[base + sy + sz], v[base + 1 + sy + sz]};
-        const double gx = std::max(std::max(std::abs(c[1] - c[0]), std::abs(c[3] - c[2])),
-                                   std::max(std::abs(c[5] - c[4]), std::abs(c[7] - c[6])));
-        const double gy = std::max(std::max(std::abs(c[2] - c[0]), std::abs(c[3] - c[1])),
-                                   std::max(std::abs(c[6] - c[4]), std::abs(c[7] - c[5])));
-        const double gz = std::max(std::max(std::abs(c[4] - c[0]), std::abs(c[5] - c[1])),
-                                   std::max(std::abs(c[6] - c[2]), std::abs(c[7] - c[3])));
         double& b = own[rowBlock + static_cast<std::size_t>(i / blockCells)];
-        b = std::max(b, gx * gx + gy * gy + gz * gz);
+        b = std::max(b, cellGradientBoundSquared(grid, i, j, k));
       }
     }
   }

@@ -9,6 +9,8 @@
 #include <mutex>
 #include <vector>
 
+#include "sdfccd/cell_gradient_bound.h"
+
 namespace sdfccd {
 
 FieldCullingBounds computeCullingBounds(const SdfGrid& grid) {
@@ -16,7 +18,6 @@ FieldCullingBounds computeCullingBounds(const SdfGrid& grid) {
   bounds.bounded = true;
   bounds.box = grid.box();
   const Vec3i n = grid.nodeCounts();
-  const auto& v = grid.values();
   // Lowest value on the box faces: the trilinear interpolant on a face blends face nodes only.
   double boundaryMin = std::numeric_limits<double>::infinity();
   for (int k = 0; k < n.z(); ++k) {
@@ -28,26 +29,12 @@ FieldCullingBounds computeCullingBounds(const SdfGrid& grid) {
     }
   }
   bounds.boundaryMin = boundaryMin;
-  // Largest gradient norm of the trilinear interpolant: per cell, each partial derivative is bounded by its
-  // largest edge difference along that axis.
-  const std::size_t sx = 1;
-  const std::size_t sy = static_cast<std::size_t>(n.x());
-  const std::size_t sz = sy * static_cast<std::size_t>(n.y());
+  // Largest gradient norm of the trilinear interpolant over all cells.
+  const Vec3i cells = grid.cellCounts();
   double worstSq = 0.0;
-  for (int k = 0; k + 1 < n.z(); ++k) {
-    for (int j = 0; j + 1 < n.y(); ++j) {
-      for (int i = 0; i + 1 < n.x(); ++i) {
-        const std::size_t base = grid.index(i, j, k);
-        const double c[8] = {v[base],      v[base + sx],      v[base + sy],      v[base + sx + sy],
-                             v[base + sz], v[base + sx + sz], v[base + sy + sz], v[base + sx + sy + sz]};
-        const double gx = std::max(std::max(std::abs(c[1] - c[0]), std::abs(c[3] - c[2])),
-                                   std::max(std::abs(c[5] - c[4]), std::abs(c[7] - c[6])));
-        const double gy = std::max(std::max(std::abs(c[2] - c[0]), std::abs(c[3] - c[1])),
-                                   std::max(std::abs(c[6] - c[4]), std::abs(c[7] - c[5])));
-        const double gz = std::max(std::max(std::abs(c[4] - c[0]), std::abs(c[5] - c[1])),
-                                   std::max(std::abs(c[6] - c[2]), std::abs(c[7] - c[3])));
-        worstSq = std::max(worstSq, gx * gx + gy * gy + gz * gz);
-      }
+  for (int k = 0; k < cells.z(); ++k) {
+    for (int j = 0; j < cells.y(); ++j) {
+      for (int i = 0; i < cells.x(); ++i) worstSq = std::max(worstSq, cellGradientBoundSquared(grid, i, j, k));
     }
   }
   // A hair of slack for the rounding of the interpolation itself.
