@@ -3,13 +3,30 @@
 
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "sdfccd/bullet/scene.h"
+#include "sdfccd/error.h"
 
 namespace sdfccd::test {
 
 /// A scene from JSON text (paths relative to the assets folder).
 inline Scene sceneFromText(const std::string& text) {
   return parseScene(text, "test", SDFCCD_ASSETS_DIR);
+}
+
+/// Runs `action`, which must throw an sdfccd::Error whose message is one line containing `expected`
+/// (`context` is added to the failure when it does not throw).
+template <class Action>
+void expectOneLineError(Action&& action, const std::string& expected, const std::string& context = "") {
+  try {
+    action();
+    ADD_FAILURE() << "accepted: " << expected << context;
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
 }
 
 }  // namespace sdfccd::test
