@@ -60,24 +60,26 @@ StabilitySearch walk(const std::vector<double>& values, const std::function<Stab
   return search;
 }
 
-}  // namespace
-
-StabilitySearch largestStableTimestep(const Scene& scene, const StabilityTrialSettings& base,
-                                      const std::vector<double>& timesteps) {
-  return walk(timesteps, [&](double dt) {
+// walk() over the trials of `base` with one setting (timestep or stiffness) set to each of `values`.
+StabilitySearch walkSetting(const Scene& scene, const StabilityTrialSettings& base, const std::vector<double>& values,
+                            double StabilityTrialSettings::*setting) {
+  return walk(values, [&](double v) {
     StabilityTrialSettings s = base;
-    s.timestep = dt;
+    s.*setting = v;
     return runStabilityTrial(scene, s);
   });
 }
 
+}  // namespace
+
+StabilitySearch largestStableTimestep(const Scene& scene, const StabilityTrialSettings& base,
+                                      const std::vector<double>& timesteps) {
+  return walkSetting(scene, base, timesteps, &StabilityTrialSettings::timestep);
+}
+
 StabilitySearch largestStableStiffness(const Scene& scene, const StabilityTrialSettings& base,
                                        const std::vector<double>& stiffnesses) {
-  return walk(stiffnesses, [&](double k) {
-    StabilityTrialSettings s = base;
-    s.stiffness = k;
-    return runStabilityTrial(scene, s);
-  });
+  return walkSetting(scene, base, stiffnesses, &StabilityTrialSettings::stiffness);
 }
 
 StabilitySearch softenUntilStable(const Scene& scene, const StabilityTrialSettings& base, double factor, int attempts) {
