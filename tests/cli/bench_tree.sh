@@ -4,6 +4,7 @@
 # checked against the linear ones inside the benchmark (it exits non-zero when they differ); bad options fail
 # with one line. Timings are printed, never asserted.
 source "$(dirname "$0")/lib.sh"
+skip_without bench "built without the bench command"
 
 "$tool" bench tree --quick --models bunny,bowl --configs 20 --assets "$assets" --out "$work/t3.csv" \
   > "$work/out.txt" 2> "$work/err.txt" || fail "bench tree --quick failed: $(tail -3 "$work/err.txt")"
