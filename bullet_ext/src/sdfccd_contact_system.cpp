@@ -23,12 +23,12 @@
 #include <sstream>
 #include <type_traits>
 
-#include "sdfccd/analytic_fields.h"
-#include "sdfccd/analytic_shells.h"
+#include "sdfccd/field/analytic_fields.h"
+#include "sdfccd/shell/analytic_shells.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
-#include "sdfccd/grid_field.h"
+#include "sdfccd/field/grid_field.h"
 
 namespace sdfccd {
 namespace {

@@ -15,7 +15,7 @@
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
 #include "sdfccd/parallel_for.h"
-#include "sdfccd/sdf_builder.h"
+#include "sdfccd/mesh/sdf_builder.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"

@@ -28,8 +28,8 @@
 #include "bench/segment_experiments.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
-#include "sdfccd/grid_field.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/sdf_file.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"

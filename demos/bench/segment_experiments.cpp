@@ -12,8 +12,8 @@
 #include "cli/thread_cpu_time.h"
 #include "sdfccd/error.h"
 #include "sdfccd/parallel_for.h"
-#include "sdfccd/sdf_builder.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/field/sdf_file.h"
 #if __has_include("sdfccd/io/mesh_loader.h")
 #include "sdfccd/io/mesh_loader.h"
 #define SDFCCD_SEGMENT_EXPERIMENTS_HAS_IO 1

@@ -13,8 +13,8 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
-#include "sdfccd/sdf_builder.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/field/sdf_file.h"
 
 namespace sdfccd::cli {
 namespace {

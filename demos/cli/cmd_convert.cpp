@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "cli/command_registry.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/field/sdf_file.h"
 
 namespace sdfccd::cli {
 namespace {

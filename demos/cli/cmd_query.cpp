@@ -19,8 +19,8 @@
 
 #include "cli/command_registry.h"
 #include "sdfccd/error.h"
-#include "sdfccd/grid_field.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/sdf_file.h"
 
 namespace sdfccd::cli {
 namespace {

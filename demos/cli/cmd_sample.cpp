@@ -12,7 +12,7 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
-#include "sdfccd/point_shell.h"
+#include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd::cli {
 namespace {

@@ -13,8 +13,8 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
-#include "sdfccd/mass_properties.h"
-#include "sdfccd/procedural_meshes.h"
+#include "sdfccd/mesh/mass_properties.h"
+#include "sdfccd/mesh/procedural_meshes.h"
 
 namespace sdfccd::cli {
 

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd::cli {
 

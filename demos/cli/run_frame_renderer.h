@@ -16,7 +16,7 @@
 
 #include "cli/run_folder.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 #if SDFCCD_HAS_RENDER
 #include "sdfccd/render/rgb_image.h"

@@ -25,10 +25,10 @@
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
 #include "cli/thread_cpu_time.h"
-#include "sdfccd/analytic_fields.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/atomic_file.h"
-#include "sdfccd/grid_field.h"
-#include "sdfccd/penalty_model.h"
+#include "sdfccd/field/grid_field.h"
+#include "sdfccd/response/penalty_model.h"
 
 namespace sdfccd::cli {
 namespace {

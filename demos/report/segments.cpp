@@ -20,7 +20,7 @@
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
 #include "sdfccd/atomic_file.h"
-#include "sdfccd/grid_field.h"
+#include "sdfccd/field/grid_field.h"
 
 namespace sdfccd::cli {
 namespace {

@@ -11,13 +11,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "sdfccd/alpha_puzzle_piece.h"
+#include "sdfccd/model/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
-#include "sdfccd/mass_properties.h"
-#include "sdfccd/point_shell.h"
-#include "sdfccd/procedural_meshes.h"
-#include "sdfccd/sdf_builder.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/mesh/mass_properties.h"
+#include "sdfccd/shell/point_shell.h"
+#include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/field/sdf_file.h"
 
 namespace sdfccd::haptics {
 

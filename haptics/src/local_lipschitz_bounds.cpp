@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sdfccd/cell_gradient_bound.h"
+#include "sdfccd/field/cell_gradient_bound.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd::haptics {

@@ -11,7 +11,7 @@
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
-#include "sdfccd/procedural_meshes.h"
+#include "sdfccd/mesh/procedural_meshes.h"
 
 namespace sdfccd {
 namespace {

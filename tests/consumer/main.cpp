@@ -1,5 +1,5 @@
 // Builds a 2x2x2-node field phi(x,y,z) = x + 2y + 3z - 1 and checks trilinear interpolation at one point.
-#include <sdfccd/sdf_grid.h>
+#include <sdfccd/field/sdf_grid.h>
 
 #include <cmath>
 #include <cstdio>

@@ -10,11 +10,11 @@
 #include <memory>
 #include <string>
 
-#include "sdfccd/analytic_fields.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/error.h"
-#include "sdfccd/grid_field.h"
-#include "sdfccd/penalty_model.h"
-#include "sdfccd/rigid_ccd.h"
+#include "sdfccd/field/grid_field.h"
+#include "sdfccd/response/penalty_model.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 
 namespace sdfccd {
 namespace {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "sdfccd/error.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd::test {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/grid_field.h"
-#include "sdfccd/sdf_grid.h"
+#include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/sdf_grid.h"
 
 namespace sdfccd::test {
 

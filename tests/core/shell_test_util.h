@@ -13,8 +13,8 @@
 #include <string>
 #include <utility>
 
-#include "sdfccd/point_shell.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/shell/point_shell.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd::test {
 

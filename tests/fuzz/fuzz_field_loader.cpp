@@ -12,7 +12,7 @@
 #include <string>
 
 #include "sdfccd/error.h"
-#include "sdfccd/sdf_file.h"
+#include "sdfccd/field/sdf_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);

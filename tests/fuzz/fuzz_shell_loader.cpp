@@ -11,7 +11,7 @@
 #include <string>
 
 #include "sdfccd/error.h"
-#include "sdfccd/point_shell.h"
+#include "sdfccd/shell/point_shell.h"
 
 namespace {
 

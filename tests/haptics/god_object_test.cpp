@@ -7,9 +7,9 @@
 
 #include <cmath>
 
-#include "sdfccd/analytic_fields.h"
-#include "sdfccd/point_shell.h"
-#include "sdfccd/procedural_meshes.h"
+#include "sdfccd/field/analytic_fields.h"
+#include "sdfccd/shell/point_shell.h"
+#include "sdfccd/mesh/procedural_meshes.h"
 
 namespace sdfccd::haptics {
 namespace {

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "sdfccd/error.h"
-#include "sdfccd/field_culling_bounds.h"
+#include "sdfccd/field/field_culling_bounds.h"
 #include "sdfccd/haptics/haptic_scene.h"
 
 namespace sdfccd::haptics {

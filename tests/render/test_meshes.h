@@ -6,7 +6,7 @@
 #include <memory>
 #include <utility>
 
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd::render::test {
 

@@ -19,7 +19,7 @@
 
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/penalty_model.h"
+#include "sdfccd/response/penalty_model.h"
 
 namespace sdfccd {
 

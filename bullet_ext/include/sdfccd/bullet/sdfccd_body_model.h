@@ -24,13 +24,13 @@
 #include <memory>
 #include <string>
 
-#include "sdfccd/grid_field.h"
-#include "sdfccd/mass_properties.h"
+#include "sdfccd/field/grid_field.h"
+#include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/point_shell.h"
-#include "sdfccd/point_tree.h"
+#include "sdfccd/shell/point_shell.h"
+#include "sdfccd/shell/point_tree.h"
 #include "sdfccd/progress.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd {
 

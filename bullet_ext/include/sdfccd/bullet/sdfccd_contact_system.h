@@ -46,9 +46,9 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
-#include "sdfccd/penalty_model.h"
-#include "sdfccd/point_tree.h"
-#include "sdfccd/rigid_ccd.h"
+#include "sdfccd/response/penalty_model.h"
+#include "sdfccd/shell/point_tree.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 
 class btCollisionDispatcher;
 class btCollisionObject;

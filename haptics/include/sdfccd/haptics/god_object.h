@@ -71,8 +71,8 @@
 #include "sdfccd/haptics/rigid_body_state.h"
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/point_tree.h"
-#include "sdfccd/rigid_ccd.h"
+#include "sdfccd/shell/point_tree.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 
 namespace sdfccd::haptics {
 

@@ -23,14 +23,14 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/analytic_fields.h"
-#include "sdfccd/grid_field.h"
+#include "sdfccd/field/analytic_fields.h"
+#include "sdfccd/field/grid_field.h"
 #include "sdfccd/haptics/device_emulator.h"
 #include "sdfccd/haptics/god_object.h"
 #include "sdfccd/haptics/penalty_renderer.h"
 #include "sdfccd/haptics/user_script.h"
-#include "sdfccd/point_tree.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/shell/point_tree.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd::haptics {
 

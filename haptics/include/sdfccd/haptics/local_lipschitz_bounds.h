@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
-#include "sdfccd/sdf_grid.h"
+#include "sdfccd/field/sdf_grid.h"
 
 namespace sdfccd::haptics {
 

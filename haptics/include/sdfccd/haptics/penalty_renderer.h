@@ -34,9 +34,9 @@
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/haptics/virtual_coupling.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/penalty_model.h"
-#include "sdfccd/point_tree.h"
-#include "sdfccd/rigid_ccd.h"
+#include "sdfccd/response/penalty_model.h"
+#include "sdfccd/shell/point_tree.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 
 namespace sdfccd::haptics {
 

@@ -15,7 +15,7 @@
 
 #include "sdfccd/math_types.h"
 #include "sdfccd/render/render_camera.h"
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd::render {
 

@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "sdfccd/triangle_mesh.h"
+#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd {
 
