@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <sstream>
 #include <type_traits>
 
@@ -29,6 +28,7 @@
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd {
 namespace {
@@ -64,14 +64,6 @@ Rigid interpolatePose(const Rigid& start, const Rigid& end, double t) {
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-// CPU time of the calling thread (s): the CCD is single threaded, and on a shared machine wall time would
-// count other processes.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 bool isPlane(const btCollisionShape* shape) {

@@ -28,7 +28,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -42,6 +41,7 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -174,13 +174,6 @@ void runFig10a(const BenchBulletOptions& o) {
   csvRow("fig10a", "softened_discrete", "stiffness", softened.largest);
   csvRow("fig10a", "softened_discrete", "max_penetration_cells", softened.penetrationAtLargest);
   csvRow("fig10a", "continuous_at_largest_dt", "max_penetration_cells", continuousPenetration);
-}
-
-// CPU time of the calling thread (s): both worlds step on this thread, and the machine may be shared.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 void runPeer(const BenchBulletOptions& o) {

@@ -17,8 +17,6 @@
 /// (earliestOneContact: what a time-of-impact solver needs); the default (all) returns every contact.
 /// The paper used 1024^3 fields; we state ours (--resolution). --quick: 64^3 fields, 100 configurations and
 /// a 20,000-point dragon, in seconds.
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -40,6 +38,7 @@
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/thread_cpu_time.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"
@@ -75,13 +74,6 @@ struct Model {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// CPU time of the calling thread (s): robust to other processes sharing the machine.
-double cpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 Rigid randomPose(const Box3& box, std::mt19937& rng) {
@@ -180,20 +172,20 @@ Row measureQuery(const std::string& query, const Model& m, const PointTree& tree
   std::int64_t missQueries = 0;
   int wrongConfigs = 0;
   for (int c = 0; c < configs; ++c) {
-    double t = cpuSeconds();
+    double t = threadCpuSeconds();
     rigidCcd(tree, field, starts[c], ends[c], independent, linear);
-    const double linearOne = cpuSeconds() - t;
+    const double linearOne = threadCpuSeconds() - t;
     row.linear += linearOne;
     if (earliest) {
       settings.useTree = false;
-      t = cpuSeconds();
+      t = threadCpuSeconds();
       rigidCcd(tree, field, starts[c], ends[c], settings, cut);
-      row.linearCut += cpuSeconds() - t;
+      row.linearCut += threadCpuSeconds() - t;
     }
     settings.useTree = true;
-    t = cpuSeconds();
+    t = threadCpuSeconds();
     rigidCcd(tree, field, starts[c], ends[c], settings, treeResult);
-    const double treeOne = cpuSeconds() - t;
+    const double treeOne = threadCpuSeconds() - t;
     row.tree += treeOne;
     if (!linear.contacts.empty()) {
       linearHitSeconds += linearOne;
@@ -201,12 +193,12 @@ Row measureQuery(const std::string& query, const Model& m, const PointTree& tree
     } else {
       missQueries += treeResult.stats.segmentQueries;
     }
-    t = cpuSeconds();
+    t = threadCpuSeconds();
     for (const auto& contact : earliest ? treeResult.contacts : linear.contacts) {
       const Vec3& x = tree.shell().positions[contact.point];
       field.intersectSegment(starts[c] * x, ends[c] * x, leafSettings, segment);
     }
-    row.contactSeconds += cpuSeconds() - t;
+    row.contactSeconds += threadCpuSeconds() - t;
     // earliest-one: each holds one witness, possibly different points tied at the same fraction.
     const bool agree = earliest ? (treeResult.firstFraction == linear.firstFraction &&
                                    cut.firstFraction == linear.firstFraction &&

@@ -9,11 +9,11 @@
 #include <random>
 #include <string>
 
-#include "cli/thread_cpu_time.h"
 #include "sdfccd/error.h"
 #include "sdfccd/parallel_for.h"
 #include "sdfccd/mesh/sdf_builder.h"
 #include "sdfccd/field/sdf_file.h"
+#include "sdfccd/thread_cpu_time.h"
 #if __has_include("sdfccd/io/mesh_loader.h")
 #include "sdfccd/io/mesh_loader.h"
 #define SDFCCD_SEGMENT_EXPERIMENTS_HAS_IO 1

@@ -25,10 +25,10 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "cli/thread_cpu_time.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {
 namespace {

@@ -24,11 +24,11 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "cli/thread_cpu_time.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/response/penalty_model.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {
 namespace {

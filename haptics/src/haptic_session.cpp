@@ -2,8 +2,6 @@
 /// @brief runHapticSession: the haptic loop, the simulation loop and what they record.
 #include "sdfccd/haptics/haptic_session.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -15,6 +13,7 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::haptics {
 
@@ -43,14 +42,6 @@ HapticMethod parseHapticMethod(const std::string& name) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// CPU time of the calling thread (ms): with the wall time it shows how much of a cycle the scheduler took
-/// away (the machine may be shared). POSIX; std::chrono has no per-thread clock.
-double threadCpuMs() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
-}
 
 /// Deepest penetration (phi < 0) over every shell point at a pose: a point query of the tree.
 template <class Field>
@@ -147,11 +138,11 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
     // One simulation cycle: the timed QP + CCD, then the (untimed) penetration measurement.
     const auto cycle = [&](const Rigid& worldFromDevice) {
-      const double cpu0 = threadCpuMs();
+      const double cpu0 = threadCpuSeconds();
       const auto t0 = Clock::now();
       const GodObjectStepResult r = god.step(worldFromDevice);
       const auto t1 = Clock::now();
-      log.cycleCpuMs.push_back(threadCpuMs() - cpu0);
+      log.cycleCpuMs.push_back(1e3 * (threadCpuSeconds() - cpu0));
       log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
       SimulationOutput out;
       out.cycleMs = log.cycleMs.back();
@@ -222,11 +213,11 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
     // The penalty step runs in the haptic loop itself (one step per tick).
     const TickHandler handler = [&](const DeviceState& state) {
-      const double cpu0 = threadCpuMs();
+      const double cpu0 = threadCpuSeconds();
       const auto t0 = Clock::now();
       const PenaltyStepResult r = renderer.step(state.body);
       const auto t1 = Clock::now();
-      log.cycleCpuMs.push_back(threadCpuMs() - cpu0);
+      log.cycleCpuMs.push_back(1e3 * (threadCpuSeconds() - cpu0));
       log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
       SimulationOutput sim;
       sim.cycleMs = log.cycleMs.back();

@@ -8,18 +8,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <ctime>
+
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {
-namespace {
-
-double cpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-}  // namespace
 
 OpenVdbPeerResult runOpenVdbPeer(const SdfGrid& grid, const std::vector<PeerSegment>& segments) {
   openvdb::initialize();
@@ -49,7 +41,7 @@ OpenVdbPeerResult runOpenVdbPeer(const SdfGrid& grid, const std::vector<PeerSegm
 
   openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> intersector(*vdb);
   std::vector<double> peer(segments.size(), -1.0);
-  const double cpuStart = cpuSeconds();
+  const double cpuStart = threadCpuSeconds();
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Vec3 d = segments[s].p1 - segments[s].p0;
     const double length = d.norm();
@@ -62,7 +54,7 @@ OpenVdbPeerResult runOpenVdbPeer(const SdfGrid& grid, const std::vector<PeerSegm
     if (intersector.intersectsWS(ray, xyz, t)) peer[s] = t / length;
   }
   result.microseconds =
-      1e6 * (cpuSeconds() - cpuStart) / static_cast<double>(std::max<std::size_t>(segments.size(), 1));
+      1e6 * (threadCpuSeconds() - cpuStart) / static_cast<double>(std::max<std::size_t>(segments.size(), 1));
 
   result.segments = static_cast<long long>(segments.size());
   long long both = 0;

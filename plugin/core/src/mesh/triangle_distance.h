@@ -2,7 +2,8 @@
 /// @brief Closest point on a triangle, with the feature (face, edge, vertex) it lies on. Internal header.
 ///
 /// @details The Voronoi-region walk of Ericson, Real-Time Collision Detection, Section 5.1.5, in double. The
-/// feature tells the SDF builder which angle-weighted pseudonormal decides the sign (Baerentzen & Aanaes).
+/// feature tells the SDF builder which angle-weighted pseudonormal decides the sign (Baerentzen & Aanaes). The
+/// one closest-point routine of the core: the SDF builder, the BVH and the point shell sampler use it.
 #pragma once
 
 #include <cstdint>
@@ -70,6 +71,14 @@ inline double closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b
   outClosest = a + v * ab + w * ac;
   outFeature = TriangleFeature::Face;
   return (p - outClosest).squaredNorm();
+}
+
+/// The closest point only (the point shell's projection onto the mesh).
+inline Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  Vec3 q;
+  TriangleFeature f;
+  closestPointOnTriangle(p, a, b, c, q, f);
+  return q;
 }
 
 /// Squared distance only.

@@ -14,6 +14,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "mesh/triangle_distance.h"
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/parallel_for.h"
@@ -23,33 +24,6 @@ namespace {
 
 // ---------------------------------------------------------------------------------------------------------
 // Geometry helpers
-
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5). Written here because
-// Eigen has no triangle queries and the core depends on Eigen alone.
-Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a;
-  const Vec3 ac = c - a;
-  const Vec3 ap = p - a;
-  const double d1 = ab.dot(ap);
-  const double d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp);
-  const double d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp);
-  const double d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 // Cells of a uniform grid addressed by a packed 64-bit key; ids sorted by (cell, id) for a deterministic
 // neighbour order.
@@ -147,7 +121,7 @@ struct SurfaceIndex {
 
   // Closest point on the surface to q; face `hint` bounds the search radius (it must be within one cell of q).
   void closest(const Vec3& q, int hint, Vec3& outPoint, int& outFace) const {
-    Vec3 best = closestPointOnTriangle(q, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
+    Vec3 best = detail::closestPointOnTriangle(q, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
     double bestSq = (best - q).squaredNorm();
     int bestFace = hint;
     const double radius = std::sqrt(bestSq);
@@ -161,7 +135,7 @@ struct SurfaceIndex {
           for (int n = run->begin; n < run->end; ++n) {
             const int f = hash.ids()[n];
             if (f == bestFace) continue;
-            const Vec3 p = closestPointOnTriangle(q, vertex(f, 0), vertex(f, 1), vertex(f, 2));
+            const Vec3 p = detail::closestPointOnTriangle(q, vertex(f, 0), vertex(f, 1), vertex(f, 2));
             const double dSq = (p - q).squaredNorm();
             if (dSq < bestSq || (dSq == bestSq && f < bestFace)) {
               bestSq = dSq;
