@@ -8,16 +8,14 @@
 /// phi <= sigma (empty when none, 0 when the segment starts inside), and the merged `a:b` ranges separated by
 /// spaces; t printed with 17 significant digits. The whole file is validated before anything is printed, so a
 /// malformed line gives one error naming the line and no partial output.
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/command_registry.h"
+#include "cli/csv_numbers.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/field/sdf_file.h"
@@ -38,53 +36,18 @@ struct SegmentLine {
   double sigma;
 };
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
-
 std::vector<SegmentLine> readSegments(const std::string& path, double defaultSigma) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read segments file '" + path + "'");
   std::vector<SegmentLine> segments;
-  std::string line;
-  for (int lineNumber = 1; std::getline(in, line); ++lineNumber) {
-    const std::string text = trim(line);
-    if (text.empty() || text[0] == '#') continue;
-    const std::string where = path + ":" + std::to_string(lineNumber) + ": ";
-    std::vector<double> values;
-    std::size_t start = 0;
-    for (;;) {
-      const std::size_t comma = text.find(',', start);
-      const std::string field =
-          trim(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-      if (field.empty()) throw Error(where + "empty value " + std::to_string(values.size() + 1));
-      errno = 0;
-      char* end = nullptr;
-      const double v = std::strtod(field.c_str(), &end);
-      if (end != field.c_str() + field.size()) throw Error(where + "'" + field + "' is not a number");
-      if (!std::isfinite(v) || errno == ERANGE) throw Error(where + "value '" + field + "' is not finite");
-      values.push_back(v);
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+  for (const CsvNumberLine& line : readCsvNumberLines(path, "segments")) {
+    const std::vector<double>& values = line.values;
     if (values.size() != 6 && values.size() != 7) {
-      throw Error(where + "expected 6 or 7 comma-separated numbers (x0,y0,z0,x1,y1,z1[,sigma]), got " +
+      throw Error(line.where + "expected 6 or 7 comma-separated numbers (x0,y0,z0,x1,y1,z1[,sigma]), got " +
                   std::to_string(values.size()));
     }
     segments.push_back({Vec3(values[0], values[1], values[2]), Vec3(values[3], values[4], values[5]),
                         values.size() == 7 ? values[6] : defaultSigma});
   }
-  if (in.bad()) throw Error("error reading segments file '" + path + "'");
   return segments;
-}
-
-void appendNumber(std::string& out, double t) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", t);
-  out += buffer;
 }
 
 int runQuery(const QueryOptions& o) {
@@ -118,13 +81,13 @@ int runQuery(const QueryOptions& o) {
     if (result.state == SegmentState::Failed) throw Error("segment " + std::to_string(n) + ": query failed");
     out += std::to_string(n);
     out += ',';
-    if (result.hit()) appendNumber(out, result.fraction);
+    if (result.hit()) appendCsvNumber(out, result.fraction);
     out += ',';
     for (std::size_t k = 0; k < result.intervals.size(); ++k) {
       if (k > 0) out += ' ';
-      appendNumber(out, result.intervals[k].begin);
+      appendCsvNumber(out, result.intervals[k].begin);
       out += ':';
-      appendNumber(out, result.intervals[k].end);
+      appendCsvNumber(out, result.intervals[k].end);
     }
     out += '\n';
   }
