@@ -23,12 +23,12 @@
 #include <sstream>
 #include <type_traits>
 
-#include "sdfccd/field/analytic_fields.h"
-#include "sdfccd/shell/analytic_shells.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/shell/analytic_shells.h"
 
 namespace sdfccd {
 namespace {
@@ -62,8 +62,9 @@ Rigid interpolatePose(const Rigid& start, const Rigid& end, double t) {
   return r;
 }
 
-double seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+/// Wall time (s), for the penalty integrals' statistics.
+double steadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 // CPU time of the calling thread (s): the CCD is single threaded, and on a shared machine wall time would
@@ -117,14 +118,12 @@ struct SdfccdContactSystem::BodyStep {
   btRigidBody* body = nullptr;  // null unless a dynamic rigid body
   Rigid worldFromBodyStart = Rigid::Identity();
   Rigid worldFromBodyEnd = Rigid::Identity();
-  PenaltyBodyMotion motion;
+  BodyVelocities velocity;  // of the centre of mass, which is the body origin
   double clampFraction = 1.0;
   bool clamped = false;
 
   bool finite() const {
-    return worldFromBodyStart.matrix().allFinite() && worldFromBodyEnd.matrix().allFinite() &&
-           motion.linearVelocityStart.allFinite() && motion.linearVelocityEnd.allFinite() &&
-           motion.angularVelocityStart.allFinite() && motion.angularVelocityEnd.allFinite();
+    return worldFromBodyStart.matrix().allFinite() && worldFromBodyEnd.matrix().allFinite() && velocity.allFinite();
   }
 };
 
@@ -229,21 +228,19 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
       w1 += rigid->getInvInertiaTensorWorld() * rigid->getTotalTorque() * btScalar(timeStep);
     }
     btTransformUtil::integrateTransform(start, v1, w1, btScalar(timeStep), end);
-    step.motion.linearVelocityStart = toVec3(v0);
-    step.motion.linearVelocityEnd = toVec3(v1);
-    step.motion.angularVelocityStart = toVec3(w0);
-    step.motion.angularVelocityEnd = toVec3(w1);
+    step.velocity.linearStart = toVec3(v0);
+    step.velocity.linearEnd = toVec3(v1);
+    step.velocity.angularStart = toVec3(w0);
+    step.velocity.angularEnd = toVec3(w1);
   } else if (rigid != nullptr && rigid->isKinematicObject()) {
     const btVector3 v = rigid->getLinearVelocity();
     const btVector3 w = rigid->getAngularVelocity();
     btTransformUtil::integrateTransform(start, v, w, btScalar(timeStep), end);
-    step.motion.linearVelocityStart = step.motion.linearVelocityEnd = toVec3(v);
-    step.motion.angularVelocityStart = step.motion.angularVelocityEnd = toVec3(w);
+    step.velocity.linearStart = step.velocity.linearEnd = toVec3(v);
+    step.velocity.angularStart = step.velocity.angularEnd = toVec3(w);
   }
   step.worldFromBodyStart = toRigid(start);
   step.worldFromBodyEnd = toRigid(end);
-  step.motion.worldFromBodyStart = step.worldFromBodyStart;
-  step.motion.worldFromBodyEnd = step.worldFromBodyEnd;
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -342,52 +339,71 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   const PointShell& shellPoints = tree.shell();
   const bool discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
 
-  const Rigid worldFromFieldStart = fieldBody.worldFromBodyStart * role.bodyFromField;
-  const Rigid worldFromFieldEnd =
-      closestPointsOnly ? worldFromFieldStart : Rigid(fieldBody.worldFromBodyEnd * role.bodyFromField);
-  const Rigid& worldFromShellEnd = closestPointsOnly ? shell.worldFromBodyStart : shell.worldFromBodyEnd;
-  const Rigid sdfFromShellStart = worldFromFieldStart.inverse() * shell.worldFromBodyStart;
-  const Rigid sdfFromShellEnd = worldFromFieldEnd.inverse() * worldFromShellEnd;
+  // The frame contract of queryContacts (contact_query.h): the shell's points live in its body frame (whose
+  // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
+  // looks at the current poses: nothing moves.
+  ShellMotion shellMotion;
+  shellMotion.worldFromShellStart = shell.worldFromBodyStart;
+  shellMotion.worldFromShellEnd = closestPointsOnly ? shell.worldFromBodyStart : shell.worldFromBodyEnd;
+  shellMotion.velocity = shell.velocity;
+  FieldMotion fieldMotion;
+  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * role.bodyFromField;
+  fieldMotion.worldFromSdfEnd =
+      closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * role.bodyFromField);
+  fieldMotion.centerOfMassInSdf = role.bodyFromField.inverse().translation();
+  fieldMotion.velocity = fieldBody.velocity;
+  const Rigid& worldFromShellEnd = shellMotion.worldFromShellEnd;
+  const Rigid& worldFromFieldStart = fieldMotion.worldFromSdfStart;
+  const Rigid& worldFromFieldEnd = fieldMotion.worldFromSdfEnd;
 
-  RigidCcdSettings ccd;
-  ccd.sigma = m_settings.penalty.sigma;
-  ccd.mode = CcdMode::AllIntervals;
-  ccd.octree = m_settings.octree;
-  ccd.useTree = m_settings.useTree;
-  ccd.threads = 1;
-  const double ccdStart = threadCpuSeconds();
-  // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
-  rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, ccd, m_scratch);
-  const double ccdSeconds = threadCpuSeconds() - ccdStart;
+  ContactQuerySettings query;
+  query.penalty = m_settings.penalty;
+  if (discrete) query.penalty.model = PenaltyModel::Discrete;
+  query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose
+  query.octree = m_settings.octree;
+  query.useTree = m_settings.useTree;
+  query.threads = 1;
+  query.integratePenalty = !closestPointsOnly;
+  ContactQueryClocks clocks;
+  clocks.ccd = &threadCpuSeconds;
+  clocks.penalty = &steadySeconds;
+  queryContacts(tree, field, shellMotion, fieldMotion, timeStep, query, m_scratch, clocks);
+  const RigidCcdResult& ccdResult = m_scratch.ccd;
+  const Rigid& sdfFromShellStart = m_scratch.sdfFromShellStart;
+  const Rigid& sdfFromShellEnd = m_scratch.sdfFromShellEnd;
   if (!closestPointsOnly && m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0 &&
       !std::is_same_v<Field, PlaneField>) {
-    RigidCcdSettings linear = ccd;
+    RigidCcdSettings linear;
+    linear.sigma = query.penalty.sigma;
+    linear.mode = discrete ? query.discreteMode : CcdMode::AllIntervals;
+    linear.octree = query.octree;
     linear.useTree = false;
+    linear.threads = 1;
     const double shadowStart = threadCpuSeconds();
     rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, linear, m_shadowScratch);
     m_stats.shadowLinearSeconds += threadCpuSeconds() - shadowStart;
   }
-  m_stats.ccdSeconds += ccdSeconds;
+  m_stats.ccdSeconds += m_scratch.ccdSeconds;
   if constexpr (std::is_same_v<Field, PlaneField>) {
-    m_stats.groundCcdSeconds += ccdSeconds;
+    m_stats.groundCcdSeconds += m_scratch.ccdSeconds;
     ++m_stats.groundCcdQueries;
   }
   ++m_stats.ccdQueries;
-  m_stats.segmentQueries += m_scratch.stats.segmentQueries;
-  if (m_scratch.contacts.empty()) return;
+  m_stats.segmentQueries += ccdResult.stats.segmentQueries;
+  if (ccdResult.contacts.empty()) return;
 
   // Manifold points: the deepest points at the step's end, for users (the solver ignores them).
   if (m_settings.maxManifoldPoints > 0) {
     std::vector<std::pair<double, int>> deepest;
-    for (int i = 0; i < static_cast<int>(m_scratch.contacts.size()); ++i) {
-      if (m_scratch.contacts[static_cast<std::size_t>(i)].depthAtEnd < 0.0) {
-        deepest.emplace_back(m_scratch.contacts[static_cast<std::size_t>(i)].depthAtEnd, i);
+    for (int i = 0; i < static_cast<int>(ccdResult.contacts.size()); ++i) {
+      if (ccdResult.contacts[static_cast<std::size_t>(i)].depthAtEnd < 0.0) {
+        deepest.emplace_back(ccdResult.contacts[static_cast<std::size_t>(i)].depthAtEnd, i);
       }
     }
     const std::size_t keep = std::min(deepest.size(), static_cast<std::size_t>(m_settings.maxManifoldPoints));
     std::partial_sort(deepest.begin(), deepest.begin() + static_cast<std::ptrdiff_t>(keep), deepest.end());
     for (std::size_t k = 0; k < keep; ++k) {
-      const PointContact& c = m_scratch.contacts[static_cast<std::size_t>(deepest[k].second)];
+      const PointContact& c = ccdResult.contacts[static_cast<std::size_t>(deepest[k].second)];
       const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
       const Vec3 pointInWorld = worldFromShellEnd * pointInShell;
       Vec3 gradientInWorld = worldFromFieldEnd.linear() * field.gradient(sdfFromShellEnd * pointInShell);
@@ -406,31 +422,24 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   }
   if (closestPointsOnly) return;
 
-  PenaltyBodyMotion fieldMotion = fieldBody.motion;
-  fieldMotion.worldFromBodyStart = worldFromFieldStart;
-  fieldMotion.worldFromBodyEnd = worldFromFieldEnd;
-  fieldMotion.centerOfMassInBody = role.bodyFromField.inverse().translation();  // the body origin is the COM
-  PenaltySettings penaltySettings = m_settings.penalty;
-  const auto penaltyStart = std::chrono::steady_clock::now();
   Record record;
   record.shell = role.shell;
   record.field = role.field;
-  record.penalty =
-      integratePenalty(shellPoints.positions, field, m_scratch, shell.motion, fieldMotion, timeStep, penaltySettings);
-  m_stats.penaltySeconds += seconds(penaltyStart);
+  record.penalty = m_scratch.penalty;
+  m_stats.penaltySeconds += m_scratch.penaltySeconds;
   m_stats.penaltySamples += record.penalty.samples;
   m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
   m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
   record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
-  record.firstFraction = m_scratch.firstFraction;
+  record.firstFraction = ccdResult.firstFraction;
 
   if (!discrete && m_settings.timeOfImpactClamp) {
     // A point that entered during the step and went deeper than the threshold (at an interval's middle, or
     // at the end) would be stopped too late by forces that act one step later: clamp at its first hit.
     const double threshold = thresholdCells * cellSize;
     std::vector<std::pair<double, Record::ClampPoint>> entering;
-    for (const PointContact& c : m_scratch.contacts) {
+    for (const PointContact& c : ccdResult.contacts) {
       if (c.state != SegmentState::Hit || !(c.fraction > 0.0) || c.intervals.empty()) continue;
       const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
       const Vec3 p0 = sdfFromShellStart * pointInShell;
@@ -438,7 +447,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       double deepest = c.depthAtEnd;
       for (std::size_t i = 0; i < c.intervals.size(); ++i) {
         const double t = 0.5 * (c.intervals[i].begin + c.intervals[i].end);
-        deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - ccd.sigma);
+        deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - query.penalty.sigma);
       }
       if (!(deepest < -threshold)) continue;
       Record::ClampPoint clampPoint;
@@ -463,11 +472,11 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     if (record.clamp) {
       // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
       double deepest = 0.0;
-      for (const PointContact& c : m_scratch.contacts) {
+      for (const PointContact& c : ccdResult.contacts) {
         const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
         const Vec3 p0 = sdfFromShellStart * pointInShell;
         const Vec3 p1 = sdfFromShellEnd * pointInShell;
-        deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - ccd.sigma));
+        deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - query.penalty.sigma));
       }
       record.maxPenetrationCells = deepest / cellSize;
       record.penalty.maxPenetration = deepest;

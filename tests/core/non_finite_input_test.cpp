@@ -108,8 +108,8 @@ TEST(NonFiniteInput, PenaltyModelRejectsNonFiniteTimestepAndStiffness) {
   RigidCcdResult ccd;
   rigidCcd(tree, plane, at(Vec3(0, 0.05, 0)), at(Vec3(0, 0.05, 0)), RigidCcdSettings{}, ccd);
   ASSERT_FALSE(ccd.contacts.empty());
-  const PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(at(Vec3(0, 0.05, 0)));
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  const ShellMotion shell = ShellMotion::fixed(at(Vec3(0, 0.05, 0)));
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const PenaltySettings good;
   EXPECT_GT(integratePenalty(tree.shell().positions, plane, ccd, shell, ground, 0.001, good).contactCount, 0);
   for (const double dt : {kNan, kInf, 0.0, -0.001}) {
