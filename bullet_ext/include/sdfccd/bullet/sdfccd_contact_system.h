@@ -113,7 +113,7 @@ struct SdfccdPairContact {
   double firstFraction = 1.0;         ///< earliest first hit of the step (fraction)
 };
 
-/// Counters, cumulative since construction or resetStatistics().
+/// Counters, cumulative since construction.
 struct SdfccdContactStatistics {
   double ccdSeconds = 0.0;            ///< CPU time of the calling thread in rigid CCD queries (s), all fields
   double groundCcdSeconds = 0.0;      ///< the part of ccdSeconds spent against static planes (s)
@@ -166,7 +166,6 @@ class SdfccdContactSystem : public btActionInterface {
   double lastStepMaxPenetrationCells() const { return m_lastMaxPenetrationCells; }
   int lastStepClamps() const { return m_lastClamps; }
   const SdfccdContactStatistics& statistics() const { return m_stats; }
-  void resetStatistics() { m_stats = {}; }
 
   /// Called by SdfccdCollisionAlgorithm. `closestPointsOnly`: a contactTest query: report the points inside
   /// at the current poses, change nothing.
