@@ -1,15 +1,14 @@
 /// @file
-/// @brief SdfccdContactSystem: CCD + continuous penalty per pair, clamping and impulses per step
-/// (Section 4.1 and 5; see sdfccd_contact_system.h).
+/// @brief SdfccdContactSystem's narrowphase (Section 4.1 and 5; see sdfccd_contact_system.h): settings and
+/// registration, each body's motion over the step, each pair's roles, queryContacts per role, manifold points
+/// and the clamping decision. The response after integrateTransforms is in sdfccd_contact_response.cpp, the
+/// convex shapes' surface points in sdfccd_convex_shells.cpp.
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
-#include <BulletCollision/CollisionShapes/btBoxShape.h>
-#include <BulletCollision/CollisionShapes/btCapsuleShape.h>
-#include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -19,139 +18,40 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <type_traits>
 
-#include "sdfccd/field/analytic_fields.h"
-#include "sdfccd/shell/analytic_shells.h"
+#include "bullet_conversions.h"
+#include "contact_step.h"
+#include "convex_fields.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd {
+
+using detail::isSupportedConvex;
+using detail::isSupportedConvexType;
+using detail::kMaxClampPoints;
+using detail::toBt;
+using detail::toRigid;
+using detail::toVec3;
+using detail::withConvexField;
+
 namespace {
 
-Vec3 toVec3(const btVector3& v) {
-  return Vec3(v.x(), v.y(), v.z());
-}
-btVector3 toBt(const Vec3& v) {
-  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
-}
-
-Rigid toRigid(const btTransform& t) {
-  Rigid r = Rigid::Identity();
-  const btQuaternion q = t.getRotation();
-  r.linear() = Quat(q.w(), q.x(), q.y(), q.z()).normalized().toRotationMatrix();
-  r.translation() = toVec3(t.getOrigin());
-  return r;
-}
-
-btTransform toBt(const Rigid& r) {
-  const Quat q(r.linear());
-  return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
-                     toBt(Vec3(r.translation())));
-}
-
-/// The pose at fraction t of the step: translation lerped, rotation slerped.
-Rigid interpolatePose(const Rigid& start, const Rigid& end, double t) {
-  Rigid r = Rigid::Identity();
-  r.linear() = Quat(start.linear()).slerp(t, Quat(end.linear())).toRotationMatrix();
-  r.translation() = start.translation() + t * (end.translation() - start.translation());
-  return r;
-}
-
-double seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+/// Wall time (s), for the penalty integrals' statistics.
+double steadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 bool isPlane(const btCollisionShape* shape) {
   return shape->getShapeType() == STATIC_PLANE_PROXYTYPE;
 }
 
-/// The Bullet convex shapes our algorithm pairs with ours (each is an analytic field and a point shell).
-bool isSupportedConvexType(int shapeType) {
-  return shapeType == BOX_SHAPE_PROXYTYPE || shapeType == SPHERE_SHAPE_PROXYTYPE ||
-         shapeType == CAPSULE_SHAPE_PROXYTYPE;
-}
-bool isSupportedConvex(const btCollisionShape* shape) {
-  return isSupportedConvexType(shape->getShapeType());
-}
-
-/// The analytic field of a supported convex shape, centred at its body origin; calls `use(field)`. The
-/// sizes include Bullet's collision margin (btBoxShape's half extents with margin are the box the user asked
-/// for; a sphere's and a capsule's margin is their radius) and the local scaling.
-template <class Use>
-void withConvexField(const btCollisionShape* shape, Use use) {
-  switch (shape->getShapeType()) {
-    case BOX_SHAPE_PROXYTYPE:
-      use(BoxField(toVec3(static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin())));
-      break;
-    case SPHERE_SHAPE_PROXYTYPE:
-      use(SphereField(Vec3::Zero(), double(static_cast<const btSphereShape*>(shape)->getRadius())));
-      break;
-    case CAPSULE_SHAPE_PROXYTYPE: {
-      const auto* capsule = static_cast<const btCapsuleShape*>(shape);
-      use(CapsuleField(double(capsule->getRadius()), double(capsule->getHalfHeight()), capsule->getUpAxis()));
-      break;
-    }
-    default:
-      throw Error("sdfccd contact: not a supported convex shape");
-  }
-}
-
 }  // namespace
-
-/// The motion of one collision object over the current step.
-struct SdfccdContactSystem::BodyStep {
-  const btCollisionObject* object = nullptr;
-  btRigidBody* body = nullptr;  // null unless a dynamic rigid body
-  Rigid worldFromBodyStart = Rigid::Identity();
-  Rigid worldFromBodyEnd = Rigid::Identity();
-  PenaltyBodyMotion motion;
-  double clampFraction = 1.0;
-  bool clamped = false;
-
-  bool finite() const {
-    return worldFromBodyStart.matrix().allFinite() && worldFromBodyEnd.matrix().allFinite() &&
-           motion.linearVelocityStart.allFinite() && motion.linearVelocityEnd.allFinite() &&
-           motion.angularVelocityStart.allFinite() && motion.angularVelocityEnd.allFinite();
-  }
-};
-
-/// One role of one pair over the current step.
-struct SdfccdContactSystem::Record {
-  std::size_t shell = 0;  // indices into m_bodies
-  std::size_t field = 0;
-  PenaltyResult penalty;
-  double maxPenetrationCells = 0.0;
-  double firstFraction = 1.0;
-  bool clamp = false;
-  bool applied = false;  // SameStep: the penalty impulses are already in the velocities
-  double clampFraction = 1.0;
-  struct ClampPoint {
-    Vec3 pointInShell = Vec3::Zero();
-    Vec3 normal = Vec3::Zero();  // world, out of the field body at the point's first contact
-    Vec3 point = Vec3::Zero();   // world, where the point is at the clamp fraction
-  };
-  std::vector<ClampPoint> clampPoints;  // the deep-entering points, earliest first (at most kMaxClampPoints)
-};
-
-namespace {
-constexpr std::size_t kMaxClampPoints = 32;   // inelastic impact points per record
-constexpr int kImpactIterations = 8;          // sequential-impulse sweeps over them
-constexpr double kConvexPointsAcross = 16.0;  // convex shapes: at least this many points across their thinnest size
-}  // namespace
-
-/// Who is the shell and who the field in one role.
-struct SdfccdContactSystem::Role {
-  std::size_t shell = 0;
-  std::size_t field = 0;
-  const PointTree* shellTree = nullptr;  // our model's tree, or a convex shape's surface points
-  Rigid bodyFromField = Rigid::Identity();
-  bool shellIsBody0 = true;
-};
 
 SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings) {
   setSettings(settings);
@@ -221,21 +121,19 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
       w1 += rigid->getInvInertiaTensorWorld() * rigid->getTotalTorque() * btScalar(timeStep);
     }
     btTransformUtil::integrateTransform(start, v1, w1, btScalar(timeStep), end);
-    step.motion.linearVelocityStart = toVec3(v0);
-    step.motion.linearVelocityEnd = toVec3(v1);
-    step.motion.angularVelocityStart = toVec3(w0);
-    step.motion.angularVelocityEnd = toVec3(w1);
+    step.velocity.linearStart = toVec3(v0);
+    step.velocity.linearEnd = toVec3(v1);
+    step.velocity.angularStart = toVec3(w0);
+    step.velocity.angularEnd = toVec3(w1);
   } else if (rigid != nullptr && rigid->isKinematicObject()) {
     const btVector3 v = rigid->getLinearVelocity();
     const btVector3 w = rigid->getAngularVelocity();
     btTransformUtil::integrateTransform(start, v, w, btScalar(timeStep), end);
-    step.motion.linearVelocityStart = step.motion.linearVelocityEnd = toVec3(v);
-    step.motion.angularVelocityStart = step.motion.angularVelocityEnd = toVec3(w);
+    step.velocity.linearStart = step.velocity.linearEnd = toVec3(v);
+    step.velocity.angularStart = step.velocity.angularEnd = toVec3(w);
   }
   step.worldFromBodyStart = toRigid(start);
   step.worldFromBodyEnd = toRigid(end);
-  step.motion.worldFromBodyStart = step.worldFromBodyStart;
-  step.motion.worldFromBodyEnd = step.worldFromBodyEnd;
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -334,52 +232,71 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   const PointShell& shellPoints = tree.shell();
   const bool discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
 
-  const Rigid worldFromFieldStart = fieldBody.worldFromBodyStart * role.bodyFromField;
-  const Rigid worldFromFieldEnd =
-      closestPointsOnly ? worldFromFieldStart : Rigid(fieldBody.worldFromBodyEnd * role.bodyFromField);
-  const Rigid& worldFromShellEnd = closestPointsOnly ? shell.worldFromBodyStart : shell.worldFromBodyEnd;
-  const Rigid sdfFromShellStart = worldFromFieldStart.inverse() * shell.worldFromBodyStart;
-  const Rigid sdfFromShellEnd = worldFromFieldEnd.inverse() * worldFromShellEnd;
+  // The frame contract of queryContacts (contact_query.h): the shell's points live in its body frame (whose
+  // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
+  // looks at the current poses: nothing moves.
+  ShellMotion shellMotion;
+  shellMotion.worldFromShellStart = shell.worldFromBodyStart;
+  shellMotion.worldFromShellEnd = closestPointsOnly ? shell.worldFromBodyStart : shell.worldFromBodyEnd;
+  shellMotion.velocity = shell.velocity;
+  FieldMotion fieldMotion;
+  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * role.bodyFromField;
+  fieldMotion.worldFromSdfEnd =
+      closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * role.bodyFromField);
+  fieldMotion.centerOfMassInSdf = role.bodyFromField.inverse().translation();
+  fieldMotion.velocity = fieldBody.velocity;
+  const Rigid& worldFromShellEnd = shellMotion.worldFromShellEnd;
+  const Rigid& worldFromFieldStart = fieldMotion.worldFromSdfStart;
+  const Rigid& worldFromFieldEnd = fieldMotion.worldFromSdfEnd;
 
-  RigidCcdSettings ccd;
-  ccd.sigma = m_settings.penalty.sigma;
-  ccd.mode = CcdMode::AllIntervals;
-  ccd.octree = m_settings.octree;
-  ccd.useTree = m_settings.useTree;
-  ccd.threads = 1;
-  const double ccdStart = threadCpuSeconds();
-  // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
-  rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, ccd, m_scratch);
-  const double ccdSeconds = threadCpuSeconds() - ccdStart;
+  ContactQuerySettings query;
+  query.penalty = m_settings.penalty;
+  if (discrete) query.penalty.model = PenaltyModel::Discrete;
+  query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose
+  query.octree = m_settings.octree;
+  query.useTree = m_settings.useTree;
+  query.threads = 1;
+  query.integratePenalty = !closestPointsOnly;
+  ContactQueryClocks clocks;
+  clocks.ccd = &threadCpuSeconds;
+  clocks.penalty = &steadySeconds;
+  queryContacts(tree, field, shellMotion, fieldMotion, timeStep, query, m_scratch, clocks);
+  const RigidCcdResult& ccdResult = m_scratch.ccd;
+  const Rigid& sdfFromShellStart = m_scratch.sdfFromShellStart;
+  const Rigid& sdfFromShellEnd = m_scratch.sdfFromShellEnd;
   if (!closestPointsOnly && m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0 &&
       !std::is_same_v<Field, PlaneField>) {
-    RigidCcdSettings linear = ccd;
+    RigidCcdSettings linear;
+    linear.sigma = query.penalty.sigma;
+    linear.mode = discrete ? query.discreteMode : CcdMode::AllIntervals;
+    linear.octree = query.octree;
     linear.useTree = false;
+    linear.threads = 1;
     const double shadowStart = threadCpuSeconds();
     rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, linear, m_shadowScratch);
     m_stats.shadowLinearSeconds += threadCpuSeconds() - shadowStart;
   }
-  m_stats.ccdSeconds += ccdSeconds;
+  m_stats.ccdSeconds += m_scratch.ccdSeconds;
   if constexpr (std::is_same_v<Field, PlaneField>) {
-    m_stats.groundCcdSeconds += ccdSeconds;
+    m_stats.groundCcdSeconds += m_scratch.ccdSeconds;
     ++m_stats.groundCcdQueries;
   }
   ++m_stats.ccdQueries;
-  m_stats.segmentQueries += m_scratch.stats.segmentQueries;
-  if (m_scratch.contacts.empty()) return;
+  m_stats.segmentQueries += ccdResult.stats.segmentQueries;
+  if (ccdResult.contacts.empty()) return;
 
   // Manifold points: the deepest points at the step's end, for users (the solver ignores them).
   if (m_settings.maxManifoldPoints > 0) {
     std::vector<std::pair<double, int>> deepest;
-    for (int i = 0; i < static_cast<int>(m_scratch.contacts.size()); ++i) {
-      if (m_scratch.contacts[static_cast<std::size_t>(i)].depthAtEnd < 0.0) {
-        deepest.emplace_back(m_scratch.contacts[static_cast<std::size_t>(i)].depthAtEnd, i);
+    for (int i = 0; i < static_cast<int>(ccdResult.contacts.size()); ++i) {
+      if (ccdResult.contacts[static_cast<std::size_t>(i)].depthAtEnd < 0.0) {
+        deepest.emplace_back(ccdResult.contacts[static_cast<std::size_t>(i)].depthAtEnd, i);
       }
     }
     const std::size_t keep = std::min(deepest.size(), static_cast<std::size_t>(m_settings.maxManifoldPoints));
     std::partial_sort(deepest.begin(), deepest.begin() + static_cast<std::ptrdiff_t>(keep), deepest.end());
     for (std::size_t k = 0; k < keep; ++k) {
-      const PointContact& c = m_scratch.contacts[static_cast<std::size_t>(deepest[k].second)];
+      const PointContact& c = ccdResult.contacts[static_cast<std::size_t>(deepest[k].second)];
       const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
       const Vec3 pointInWorld = worldFromShellEnd * pointInShell;
       Vec3 gradientInWorld = worldFromFieldEnd.linear() * field.gradient(sdfFromShellEnd * pointInShell);
@@ -398,31 +315,24 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   }
   if (closestPointsOnly) return;
 
-  PenaltyBodyMotion fieldMotion = fieldBody.motion;
-  fieldMotion.worldFromBodyStart = worldFromFieldStart;
-  fieldMotion.worldFromBodyEnd = worldFromFieldEnd;
-  fieldMotion.centerOfMassInBody = role.bodyFromField.inverse().translation();  // the body origin is the COM
-  PenaltySettings penaltySettings = m_settings.penalty;
-  const auto penaltyStart = std::chrono::steady_clock::now();
   Record record;
   record.shell = role.shell;
   record.field = role.field;
-  record.penalty =
-      integratePenalty(shellPoints.positions, field, m_scratch, shell.motion, fieldMotion, timeStep, penaltySettings);
-  m_stats.penaltySeconds += seconds(penaltyStart);
+  record.penalty = m_scratch.penalty;
+  m_stats.penaltySeconds += m_scratch.penaltySeconds;
   m_stats.penaltySamples += record.penalty.samples;
   m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
   m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
   record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
-  record.firstFraction = m_scratch.firstFraction;
+  record.firstFraction = ccdResult.firstFraction;
 
   if (!discrete && m_settings.timeOfImpactClamp) {
     // A point that entered during the step and went deeper than the threshold (at an interval's middle, or
     // at the end) would be stopped too late by forces that act one step later: clamp at its first hit.
     const double threshold = thresholdCells * cellSize;
     std::vector<std::pair<double, Record::ClampPoint>> entering;
-    for (const PointContact& c : m_scratch.contacts) {
+    for (const PointContact& c : ccdResult.contacts) {
       if (c.state != SegmentState::Hit || !(c.fraction > 0.0) || c.intervals.empty()) continue;
       const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
       const Vec3 p0 = sdfFromShellStart * pointInShell;
@@ -430,7 +340,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       double deepest = c.depthAtEnd;
       for (std::size_t i = 0; i < c.intervals.size(); ++i) {
         const double t = 0.5 * (c.intervals[i].begin + c.intervals[i].end);
-        deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - ccd.sigma);
+        deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - query.penalty.sigma);
       }
       if (!(deepest < -threshold)) continue;
       Record::ClampPoint clampPoint;
@@ -455,11 +365,11 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     if (record.clamp) {
       // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
       double deepest = 0.0;
-      for (const PointContact& c : m_scratch.contacts) {
+      for (const PointContact& c : ccdResult.contacts) {
         const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
         const Vec3 p0 = sdfFromShellStart * pointInShell;
         const Vec3 p1 = sdfFromShellEnd * pointInShell;
-        deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - ccd.sigma));
+        deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - query.penalty.sigma));
       }
       record.maxPenetrationCells = deepest / cellSize;
       record.penalty.maxPenetration = deepest;
@@ -470,149 +380,6 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     record.applied = true;
   }
   m_records.push_back(record);
-}
-
-const PointTree& SdfccdContactSystem::convexShellTree(const btCollisionShape* shape, double fieldCellSize) {
-  // Keyed by the shape's type and sizes (not its address, which a deleted shape may hand on) and the spacing.
-  std::ostringstream key;
-  key.precision(17);
-  double smallestExtent = 0.0;  // the shape's thinnest size (m)
-  withConvexField(shape, [&](const auto& field) {
-    using Field = std::decay_t<decltype(field)>;
-    if constexpr (std::is_same_v<Field, BoxField>) {
-      key << ' ' << field.halfExtents().transpose();
-      smallestExtent = 2.0 * field.halfExtents().minCoeff();
-    }
-    if constexpr (std::is_same_v<Field, SphereField>) {
-      key << ' ' << field.radius();
-      smallestExtent = 2.0 * field.radius();
-    }
-    if constexpr (std::is_same_v<Field, CapsuleField>) {
-      key << ' ' << field.radius() << ' ' << field.halfHeight() << ' ' << field.axis();
-      smallestExtent = 2.0 * field.radius();
-    }
-  });
-  // Fine enough for the field it meets, and for the shape itself: a small sphere on a coarse field still
-  // rests on a patch of points, not on one.
-  const double spacing =
-      std::min(m_settings.convexPointSpacingCells * fieldCellSize, smallestExtent / kConvexPointsAcross);
-  key << ' ' << shape->getShapeType() << ' ' << spacing;
-  auto found = m_convexTrees.find(key.str());
-  if (found != m_convexTrees.end()) return *found->second;
-  AnalyticShellSettings sampling;
-  sampling.spacing = spacing;
-  sampling.maxPoints = m_settings.convexMaxPoints;
-  PointShell points;
-  withConvexField(shape, [&](const auto& field) {
-    using Field = std::decay_t<decltype(field)>;
-    if constexpr (std::is_same_v<Field, BoxField>) points = boxShell(field.halfExtents(), sampling);
-    if constexpr (std::is_same_v<Field, SphereField>) points = sphereShell(field.radius(), sampling);
-    if constexpr (std::is_same_v<Field, CapsuleField>)
-      points = capsuleShell(field.radius(), field.halfHeight(), field.axis(), sampling);
-  });
-  auto tree = std::make_unique<PointTree>(std::move(points));
-  return *m_convexTrees.emplace(key.str(), std::move(tree)).first->second;
-}
-
-void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {
-  for (int side = 0; side < 2; ++side) {
-    btRigidBody* body = m_bodies[side == 0 ? r.shell : r.field].body;
-    if (body == nullptr) continue;
-    const Vec3& impulse = side == 0 ? r.penalty.impulseOnShell : r.penalty.impulseOnField;
-    const Vec3& angular = side == 0 ? r.penalty.angularImpulseOnShell : r.penalty.angularImpulseOnField;
-    if (impulse.isZero(0.0) && angular.isZero(0.0)) continue;
-    if (!impulse.allFinite() || !angular.allFinite()) continue;  // never spread a NaN (see nonFinitePairs)
-    body->applyCentralImpulse(toBt(impulse));
-    if (!angular.isZero(0.0)) body->applyTorqueImpulse(toBt(angular));
-    if (body->getActivationState() == ISLAND_SLEEPING) body->activate();
-  }
-}
-
-void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
-  if (m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0) ++m_stats.shadowSteps;
-  ++m_stepCounter;
-  m_lastContacts.clear();
-  m_lastContactCount = 0;
-  m_lastMaxPenetrationCells = 0.0;
-  m_lastClamps = 0;
-
-  // 1. Time-of-impact clamping: each dynamic body goes back to its earliest clamp fraction.
-  for (const Record& r : m_records) {
-    if (!r.clamp) continue;
-    for (std::size_t side : {r.shell, r.field}) {
-      BodyStep& b = m_bodies[side];
-      if (b.body != nullptr) b.clampFraction = std::min(b.clampFraction, r.clampFraction);
-    }
-  }
-  for (BodyStep& b : m_bodies) {
-    if (b.body == nullptr || !(b.clampFraction < 1.0)) continue;
-    b.clamped = true;
-    b.body->setCenterOfMassTransform(toBt(interpolatePose(b.worldFromBodyStart, b.worldFromBodyEnd, b.clampFraction)));
-    ++m_lastClamps;
-    ++m_stats.clamps;
-  }
-  // 2. Inelastic impact: sequential impulses at the entering points remove their approaching normal
-  //    velocity (accumulated impulse per point kept >= 0, so a later sweep may only take back what it gave).
-  for (const Record& r : m_records) {
-    if (!r.clamp) continue;
-    btRigidBody* shell = m_bodies[r.shell].body;
-    btRigidBody* fieldBody = m_bodies[r.field].body;
-    // The points moved with the bodies to the clamp fraction; rebuild them from the shell's pose there.
-    std::vector<btScalar> accumulated(r.clampPoints.size(), btScalar(0));
-    for (int sweep = 0; sweep < kImpactIterations; ++sweep) {
-      for (std::size_t k = 0; k < r.clampPoints.size(); ++k) {
-        const btVector3 normal = toBt(r.clampPoints[k].normal);  // the shell may move along +normal
-        const btVector3 point = toBt(r.clampPoints[k].point);
-        btVector3 relativeVelocity(0, 0, 0);
-        btScalar denominator = 0;
-        btVector3 shellArm(0, 0, 0), fieldArm(0, 0, 0);
-        if (shell != nullptr) {
-          shellArm = point - shell->getCenterOfMassPosition();
-          relativeVelocity += shell->getVelocityInLocalPoint(shellArm);
-          denominator += shell->computeImpulseDenominator(point, normal);
-        }
-        if (fieldBody != nullptr) {
-          fieldArm = point - fieldBody->getCenterOfMassPosition();
-          relativeVelocity -= fieldBody->getVelocityInLocalPoint(fieldArm);
-          denominator += fieldBody->computeImpulseDenominator(point, normal);
-        }
-        if (!(denominator > 0)) continue;
-        const btScalar approach = relativeVelocity.dot(normal);
-        const btScalar next = std::max(btScalar(0), accumulated[k] - approach / denominator);
-        const btVector3 impulse = normal * (next - accumulated[k]);
-        accumulated[k] = next;
-        if (shell != nullptr) shell->applyImpulse(impulse, shellArm);
-        if (fieldBody != nullptr) fieldBody->applyImpulse(-impulse, fieldArm);
-      }
-    }
-    for (btRigidBody* body : {shell, fieldBody}) {
-      if (body != nullptr && body->getActivationState() == ISLAND_SLEEPING) body->activate();
-    }
-  }
-  // 3. NextStep timing: penalty impulses (eq. 5: F* dt) of the pairs whose bodies were not moved back.
-  for (const Record& r : m_records) {
-    const bool skip = r.applied || r.clamp || m_bodies[r.shell].clamped || m_bodies[r.field].clamped;
-    if (!skip) applyPenaltyImpulses(r);
-    SdfccdPairContact report;
-    report.shellObject = m_bodies[r.shell].object;
-    report.fieldObject = m_bodies[r.field].object;
-    report.contactCount = r.penalty.contactCount;
-    report.maxPenetration = r.penalty.maxPenetration;
-    report.maxPenetrationCells = r.maxPenetrationCells;
-    report.forceOnShell = r.penalty.forceOnShell;
-    report.torqueOnShell = r.penalty.torqueOnShell;
-    report.forceOnField = r.penalty.forceOnField;
-    report.torqueOnField = r.penalty.torqueOnField;
-    report.clamped = r.clamp;
-    report.firstFraction = r.firstFraction;
-    m_lastContacts.push_back(report);
-    m_lastContactCount += r.penalty.contactCount;
-    m_lastMaxPenetrationCells = std::max(m_lastMaxPenetrationCells, r.maxPenetrationCells);
-  }
-  m_stats.maxPenetrationCells = std::max(m_stats.maxPenetrationCells, m_lastMaxPenetrationCells);
-  m_records.clear();
-  m_bodies.clear();
-  m_bodyIndex.clear();
 }
 
 std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,

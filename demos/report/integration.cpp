@@ -24,8 +24,8 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/atomic_file.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/response/penalty_model.h"
 #include "sdfccd/thread_cpu_time.h"
@@ -43,7 +43,7 @@ const char* kKindNames[] = {"entering", "leaving", "grazing", "fully inside"};
 
 /// One point's step: the body's start and end poses, the point and its normal in the body frame.
 struct Trajectory {
-  PenaltyBodyMotion body;
+  ShellMotion body;
   Vec3 pointInBody = Vec3::Zero();
   Vec3 normalInBody = Vec3::UnitX();
   RigidCcdResult ccd;  // one contact, AllIntervals
@@ -53,8 +53,8 @@ struct Trajectory {
 /// Classifies the CCD answer; false when the point never touches.
 template <class Field>
 bool classify(const Field& field, Trajectory& t) {
-  const Vec3 p0 = t.body.worldFromBodyStart * t.pointInBody;
-  const Vec3 p1 = t.body.worldFromBodyEnd * t.pointInBody;
+  const Vec3 p0 = t.body.worldFromShellStart * t.pointInBody;
+  const Vec3 p1 = t.body.worldFromShellEnd * t.pointInBody;
   SegmentCcdSettings settings;
   settings.mode = CcdMode::AllIntervals;
   SegmentCcdResult r;
@@ -105,12 +105,12 @@ std::vector<Trajectory> makeTrajectories(const Field& field, bool plane, bool tu
     // The point starts near the surface and moves up to 0.6 (a fast step: a few tenths of the radius).
     const Vec3 p0 = plane ? Vec3(u(rng), 0.3 * u(rng), u(rng)) : (1.0 + 0.3 * u(rng)) * unit();
     const Vec3 p1 = p0 + 0.6 * std::abs(u(rng)) * unit();
-    t.body.worldFromBodyStart = Rigid::Identity();
-    t.body.worldFromBodyStart.linear() = start.toRotationMatrix();
-    t.body.worldFromBodyStart.translation() = p0 - start * t.pointInBody;
-    t.body.worldFromBodyEnd = Rigid::Identity();
-    t.body.worldFromBodyEnd.linear() = end.toRotationMatrix();
-    t.body.worldFromBodyEnd.translation() = p1 - end * t.pointInBody;
+    t.body.worldFromShellStart = Rigid::Identity();
+    t.body.worldFromShellStart.linear() = start.toRotationMatrix();
+    t.body.worldFromShellStart.translation() = p0 - start * t.pointInBody;
+    t.body.worldFromShellEnd = Rigid::Identity();
+    t.body.worldFromShellEnd.linear() = end.toRotationMatrix();
+    t.body.worldFromShellEnd.translation() = p1 - end * t.pointInBody;
     if (!classify(field, t)) continue;
     int& count = counts[static_cast<std::size_t>(t.kind)];
     if (count >= perKind) continue;
@@ -133,7 +133,7 @@ PenaltySettings settingsWith(int subintervals) {
 template <class Field>
 PenaltyResult integrate(const Field& field, const Trajectory& t, int subintervals) {
   const std::vector<Vec3> points{t.pointInBody};
-  return integratePenalty(points, field, t.ccd, t.body, PenaltyBodyMotion::fixed(Rigid::Identity()), kTimestep,
+  return integratePenalty(points, field, t.ccd, t.body, FieldMotion::fixed(Rigid::Identity()), kTimestep,
                           settingsWith(subintervals));
 }
 
@@ -180,10 +180,10 @@ FieldStudy study(const std::string& name, const Field& field, const std::vector<
     s.closedFormError = 0.0;
     for (std::size_t i = 0; i < trajectories.size(); ++i) {
       const Trajectory& t = trajectories[i];
-      const Vec3 p0 = t.body.worldFromBodyStart * t.pointInBody;
-      const Vec3 p1 = t.body.worldFromBodyEnd * t.pointInBody;
-      const Vec3 normal = t.body.worldFromBodyStart.linear() * t.normalInBody;
-      const Vec3 handle = p0 - t.body.worldFromBodyStart.translation();
+      const Vec3 p0 = t.body.worldFromShellStart * t.pointInBody;
+      const Vec3 p1 = t.body.worldFromShellEnd * t.pointInBody;
+      const Vec3 normal = t.body.worldFromShellStart.linear() * t.normalInBody;
+      const Vec3 handle = p0 - t.body.worldFromShellStart.translation();
       Vec3 impulse = Vec3::Zero();
       for (std::size_t k = 0; k < t.ccd.contacts[0].intervals.size(); ++k) {
         const Interval& iv = t.ccd.contacts[0].intervals[k];

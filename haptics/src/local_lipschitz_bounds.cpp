@@ -6,8 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include "sdfccd/field/cell_gradient_bound.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/cell_gradient_bound.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd::haptics {
 
@@ -18,7 +19,7 @@ LocalLipschitzBounds::LocalLipschitzBounds(const SdfGrid& grid, int blockCells) 
   for (int a = 0; a < 3; ++a) m_blocks[a] = (cells[a] + blockCells - 1) / blockCells;
   m_origin = grid.origin();
   m_blockSize = blockCells * grid.spacing();
-  m_reach = m_blockSize * (1.0 - 1e-6);  // a hair less, for the rounding of the block lookup
+  m_reach = m_blockSize * (1.0 - tolerance::kBlockReachShrink);  // a hair less, for the rounding of the block lookup
   const auto blockIndex = [&](int bx, int by, int bz) {
     return static_cast<std::size_t>(bx) +
            static_cast<std::size_t>(m_blocks.x()) *
@@ -46,7 +47,7 @@ LocalLipschitzBounds::LocalLipschitzBounds(const SdfGrid& grid, int blockCells) 
           for (int dy = std::max(0, by - 1); dy <= std::min(m_blocks.y() - 1, by + 1); ++dy)
             for (int dx = std::max(0, bx - 1); dx <= std::min(m_blocks.x() - 1, bx + 1); ++dx)
               worst = std::max(worst, own[blockIndex(dx, dy, dz)]);
-        const double bound = std::sqrt(worst) / grid.spacing() * (1.0 + 1e-9);
+        const double bound = std::sqrt(worst) / grid.spacing() * tolerance::kBoundGrowth;
         float f = static_cast<float>(bound);
         if (static_cast<double>(f) < bound) f = std::nextafter(f, std::numeric_limits<float>::infinity());
         m_bounds[blockIndex(bx, by, bz)] = f;

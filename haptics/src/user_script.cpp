@@ -9,6 +9,7 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/rigid_body_state.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd::haptics {
 
@@ -55,7 +56,8 @@ UserScript UserScript::loadCsv(const std::string& path) {
     }
     if (n != 8) throw Error(path + ":" + std::to_string(lineNo) + ": expected 8 columns, got " + std::to_string(n));
     Quat q(v[4], v[5], v[6], v[7]);
-    if (!(q.norm() > 1e-12)) throw Error(path + ":" + std::to_string(lineNo) + ": zero quaternion");
+    if (!(q.norm() > tolerance::kMinDirectionLength))
+      throw Error(path + ":" + std::to_string(lineNo) + ": zero quaternion");
     q.normalize();
     PoseKeyframe k;
     k.time = v[0];

@@ -10,11 +10,11 @@
 #include <memory>
 #include <string>
 
-#include "sdfccd/field/analytic_fields.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/response/penalty_model.h"
-#include "sdfccd/ccd/rigid_ccd.h"
 
 namespace sdfccd {
 namespace {
@@ -89,10 +89,10 @@ TEST(NonFiniteInput, RigidCcdRejectsNonFinitePosesOnGridAndAnalyticFields) {
 template <class Field>
 void expectSegmentFails(const Field& field) {
   SegmentCcdSettings s;
-  EXPECT_EQ(field.intersectSegment(Vec3(0, 0.9, 0), Vec3(0, 0.0, 0), s).state, SegmentState::Hit);
+  EXPECT_EQ(intersectSegment(field, Vec3(0, 0.9, 0), Vec3(0, 0.0, 0), s).state, SegmentState::Hit);
   for (const Vec3& bad : {Vec3(kNan, 0, 0), Vec3(0, kInf, 0), Vec3(0, 0, -kInf)}) {
-    EXPECT_EQ(field.intersectSegment(bad, Vec3(0, 0.0, 0), s).state, SegmentState::Failed);
-    EXPECT_EQ(field.intersectSegment(Vec3(0, 0.9, 0), bad, s).state, SegmentState::Failed);
+    EXPECT_EQ(intersectSegment(field, bad, Vec3(0, 0.0, 0), s).state, SegmentState::Failed);
+    EXPECT_EQ(intersectSegment(field, Vec3(0, 0.9, 0), bad, s).state, SegmentState::Failed);
   }
 }
 
@@ -108,8 +108,8 @@ TEST(NonFiniteInput, PenaltyModelRejectsNonFiniteTimestepAndStiffness) {
   RigidCcdResult ccd;
   rigidCcd(tree, plane, at(Vec3(0, 0.05, 0)), at(Vec3(0, 0.05, 0)), RigidCcdSettings{}, ccd);
   ASSERT_FALSE(ccd.contacts.empty());
-  const PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(at(Vec3(0, 0.05, 0)));
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  const ShellMotion shell = ShellMotion::fixed(at(Vec3(0, 0.05, 0)));
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const PenaltySettings good;
   EXPECT_GT(integratePenalty(tree.shell().positions, plane, ccd, shell, ground, 0.001, good).contactCount, 0);
   for (const double dt : {kNan, kInf, 0.0, -0.001}) {

@@ -8,8 +8,8 @@
 #include <random>
 
 #include "core/segment_reference.h"
-#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 
 namespace sdfccd {
@@ -33,11 +33,11 @@ SegmentCcdSettings settingsOf(double sigma, CcdMode mode, CcdMethod method = Ccd
 void checkSegment(const GridField& field, const Vec3& p0, const Vec3& p1, double sigma, int samples = 20000,
                   double tolPhi = 1e-7) {
   const SegmentCcdResult full =
-      field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, OctreeMode::Full));
+      intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, OctreeMode::Full));
   ASSERT_TRUE(matchesBruteForce(field.grid(), p0, p1, sigma, full, samples, tolPhi)) << describe(p0, p1, sigma);
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
     const SegmentCcdResult all =
-        field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, octree));
+        intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::AllIntervals, CcdMethod::Exact, octree));
     ASSERT_EQ(all.state, full.state) << describe(p0, p1, sigma);
     ASSERT_EQ(all.intervals.size(), full.intervals.size()) << describe(p0, p1, sigma);
     for (std::size_t k = 0; k < all.intervals.size(); ++k) {
@@ -45,7 +45,7 @@ void checkSegment(const GridField& field, const Vec3& p0, const Vec3& p1, double
       ASSERT_EQ(all.intervals[k].end, full.intervals[k].end);
     }
     const SegmentCcdResult first =
-        field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::FirstHit, CcdMethod::Exact, octree));
+        intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::FirstHit, CcdMethod::Exact, octree));
     ASSERT_EQ(first.state, all.state) << describe(p0, p1, sigma);
     ASSERT_EQ(first.fraction, all.fraction) << describe(p0, p1, sigma);
   }
@@ -77,7 +77,7 @@ TEST(SegmentCcd, RandomFieldDenseReferenceWithTenToTheFiveSamples) {
     const Vec3 p0 = box.min() + (box.max() - box.min()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
     const Vec3 p1 = box.min() + (box.max() - box.min()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
     const double sigma = 0.1 * (n % 5) - 0.2;
-    const SegmentCcdResult all = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
+    const SegmentCcdResult all = intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
     ASSERT_TRUE(matchesBruteForce(*grid, p0, p1, sigma, all, 100000, 1e-6)) << describe(p0, p1, sigma);
   }
 }
@@ -110,7 +110,7 @@ TEST(SegmentCcd, PlaneFieldCrossingTimesAreClosedForm) {
     const Vec3 p0(u(rng), u(rng), u(rng)), p1(u(rng), u(rng), u(rng));
     for (double sigma : {0.0, 0.3, -0.2}) {
       const double f0 = phi(p0) - sigma, f1 = phi(p1) - sigma;
-      const SegmentCcdResult r = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
+      const SegmentCcdResult r = intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
       if (f0 <= 0.0) {
         EXPECT_EQ(r.state, SegmentState::StartsInside);
         EXPECT_EQ(r.fraction, 0.0);
@@ -144,7 +144,7 @@ TEST(SegmentCcd, SphereFieldMatchesBruteForceAndAnalyticFirstHit) {
     for (double sigma : {0.0, 0.1, -0.1}) {
       checkSegment(field, p0, p1, sigma, 20000);
       // Against the analytic sphere of radius + sigma: trilinear error of |p| is O(h^2 / r).
-      const SegmentCcdResult r = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::FirstHit));
+      const SegmentCcdResult r = intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::FirstHit));
       const Vec3 d = p1 - p0;
       const double rr = radius + sigma;
       const double qa = d.squaredNorm(), qb = 2.0 * p0.dot(d), qc = p0.squaredNorm() - rr * rr;
@@ -202,25 +202,25 @@ TEST(SegmentCcd, GridAlignedSegmentsInPlanesAlongLinesAndThroughVertices) {
 TEST(SegmentCcd, ZeroLengthSegmentIsAPointQuery) {
   const GridField field(bumpyGrid());
   const Vec3 centre(1.5, 1.5, 1.5), far(0.1, 0.1, 0.1);
-  const SegmentCcdResult in = field.intersectSegment(centre, centre, settingsOf(0.0, CcdMode::AllIntervals));
+  const SegmentCcdResult in = intersectSegment(field, centre, centre, settingsOf(0.0, CcdMode::AllIntervals));
   EXPECT_EQ(in.state, SegmentState::StartsInside);
   EXPECT_EQ(in.fraction, 0.0);
   ASSERT_EQ(in.intervals.size(), 1u);
   EXPECT_EQ(in.intervals[0].begin, 0.0);
   EXPECT_EQ(in.intervals[0].end, 1.0);
   EXPECT_LT(in.depth, 0.0);
-  const SegmentCcdResult out = field.intersectSegment(far, far, settingsOf(0.0, CcdMode::AllIntervals));
+  const SegmentCcdResult out = intersectSegment(field, far, far, settingsOf(0.0, CcdMode::AllIntervals));
   EXPECT_EQ(out.state, SegmentState::Separated);
   EXPECT_TRUE(out.intervals.empty());
   const Vec3 outside(-1.0, 1.0, 1.0);
-  EXPECT_EQ(field.intersectSegment(outside, outside, settingsOf(0.0, CcdMode::FirstHit)).state,
+  EXPECT_EQ(intersectSegment(field, outside, outside, settingsOf(0.0, CcdMode::FirstHit)).state,
             SegmentState::OutsideField);
   // On a grid vertex.
   const Vec3 vertex(0.5, 0.75, 1.0);
   const double phi = field.grid().value(2, 3, 4);
-  EXPECT_EQ(field.intersectSegment(vertex, vertex, settingsOf(phi, CcdMode::FirstHit)).state,
+  EXPECT_EQ(intersectSegment(field, vertex, vertex, settingsOf(phi, CcdMode::FirstHit)).state,
             SegmentState::StartsInside);
-  EXPECT_EQ(field.intersectSegment(vertex, vertex, settingsOf(phi - 1e-6, CcdMode::FirstHit)).state,
+  EXPECT_EQ(intersectSegment(field, vertex, vertex, settingsOf(phi - 1e-6, CcdMode::FirstHit)).state,
             SegmentState::Separated);
 }
 
@@ -229,7 +229,7 @@ TEST(SegmentCcd, StartingInsideReportsFractionZeroAndNegativeDepth) {
   const Vec3 p0(1.5, 1.5, 1.5), p1(2.9, 0.2, 1.0);
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
     const SegmentCcdResult r =
-        field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
+        intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
     EXPECT_EQ(r.state, SegmentState::StartsInside);
     EXPECT_EQ(r.fraction, 0.0);
     EXPECT_NEAR(r.depth, field.distance(p0), 1e-12);
@@ -244,14 +244,14 @@ TEST(SegmentCcd, PartlyOutsideSegmentsAreFreeOutsideTheBox) {
   const GridField field(bumpyGrid());
   // Crosses the whole box along x through the blob: contact only inside.
   const Vec3 p0(-3.0, 1.5, 1.5), p1(6.0, 1.5, 1.5);
-  const SegmentCcdResult r = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals));
+  const SegmentCcdResult r = intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::AllIntervals));
   ASSERT_EQ(r.state, SegmentState::Hit);
   EXPECT_GT(r.fraction, 3.0 / 9.0);
   EXPECT_LT(r.intervals.back().end, 6.0 / 9.0);
   EXPECT_TRUE(matchesBruteForce(field.grid(), p0, p1, 0.0, r));
   // A level set that fills the whole box: contact begins exactly where the segment enters the box.
   const double sigma = 10.0;
-  const SegmentCcdResult all = field.intersectSegment(p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
+  const SegmentCcdResult all = intersectSegment(field, p0, p1, settingsOf(sigma, CcdMode::AllIntervals));
   ASSERT_EQ(all.state, SegmentState::Hit);
   EXPECT_NEAR(all.fraction, 3.0 / 9.0, 1e-15);
   ASSERT_EQ(all.intervals.size(), 1u);
@@ -267,19 +267,16 @@ TEST(SegmentCcd, FullyOutsideSegmentsAreOutsideField) {
   const GridField field(bumpyGrid());
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
     // Beside the box, parallel to a face, and touching nothing.
-    EXPECT_EQ(field
-                  .intersectSegment(Vec3(-1, -1, -1), Vec3(-0.5, 4, 4),
-                                    settingsOf(100.0, CcdMode::AllIntervals, CcdMethod::Exact, octree))
+    EXPECT_EQ(intersectSegment(field, Vec3(-1, -1, -1), Vec3(-0.5, 4, 4),
+                               settingsOf(100.0, CcdMode::AllIntervals, CcdMethod::Exact, octree))
                   .state,
               SegmentState::OutsideField);
-    EXPECT_EQ(field
-                  .intersectSegment(Vec3(0, 3.5, 0), Vec3(3, 3.5, 3),
-                                    settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree))
+    EXPECT_EQ(intersectSegment(field, Vec3(0, 3.5, 0), Vec3(3, 3.5, 3),
+                               settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree))
                   .state,
               SegmentState::OutsideField);
-    EXPECT_EQ(field
-                  .intersectSegment(Vec3(4, 0, 0), Vec3(0, 0, -4),
-                                    settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree))
+    EXPECT_EQ(intersectSegment(field, Vec3(4, 0, 0), Vec3(0, 0, -4),
+                               settingsOf(100.0, CcdMode::FirstHit, CcdMethod::Exact, octree))
                   .state,
               SegmentState::OutsideField);
   }
@@ -301,11 +298,11 @@ TEST(SegmentCcd, DistanceIsTrilinearInsideAndPositiveOutsideTheBox) {
 TEST(SegmentCcd, NonFiniteInputFails) {
   const GridField field(bumpyGrid());
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(field.intersectSegment(Vec3(nan, 0, 0), Vec3(1, 1, 1), settingsOf(0.0, CcdMode::FirstHit)).state,
+  EXPECT_EQ(intersectSegment(field, Vec3(nan, 0, 0), Vec3(1, 1, 1), settingsOf(0.0, CcdMode::FirstHit)).state,
             SegmentState::Failed);
-  EXPECT_EQ(field.intersectSegment(Vec3(0, 0, 0), Vec3(INFINITY, 1, 1), settingsOf(0.0, CcdMode::FirstHit)).state,
+  EXPECT_EQ(intersectSegment(field, Vec3(0, 0, 0), Vec3(INFINITY, 1, 1), settingsOf(0.0, CcdMode::FirstHit)).state,
             SegmentState::Failed);
-  EXPECT_EQ(field.intersectSegment(Vec3(0, 0, 0), Vec3(1, 1, 1), settingsOf(nan, CcdMode::FirstHit)).state,
+  EXPECT_EQ(intersectSegment(field, Vec3(0, 0, 0), Vec3(1, 1, 1), settingsOf(nan, CcdMode::FirstHit)).state,
             SegmentState::Failed);
   EXPECT_THROW(GridField(nullptr), Error);
 }
@@ -352,10 +349,10 @@ TEST(SegmentCcd, Fig2CaseAPositiveEndsWithAContactInsideBisectionMissesExactFind
   const Vec3 p0(0, 0, 0), p1(1, 1, 1);
   for (OctreeMode octree : {OctreeMode::Full, OctreeMode::Leaves, OctreeMode::Off}) {
     const SegmentCcdResult bisection =
-        field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Bisection, octree));
+        intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Bisection, octree));
     EXPECT_EQ(bisection.state, SegmentState::Separated);
     const SegmentCcdResult exact =
-        field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
+        intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::AllIntervals, CcdMethod::Exact, octree));
     ASSERT_EQ(exact.state, SegmentState::Hit);
     ASSERT_EQ(exact.intervals.size(), 1u);
     EXPECT_TRUE(matchesBruteForce(field.grid(), p0, p1, 0.0, exact));
@@ -370,10 +367,10 @@ TEST(SegmentCcd, Fig2CaseBThreeCrossingsBisectionReportsTheLastExactTheFirst) {
   const GridField field(diagonalCellWithRoots(-1.0, 0.2, 0.5, 0.9));
   const Vec3 p0(0, 0, 0), p1(1, 1, 1);
   const SegmentCcdResult bisection =
-      field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
+      intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
   ASSERT_EQ(bisection.state, SegmentState::Hit);
   EXPECT_GT(bisection.fraction, 0.8);  // the third crossing
-  const SegmentCcdResult exact = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::AllIntervals));
+  const SegmentCcdResult exact = intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::AllIntervals));
   ASSERT_EQ(exact.state, SegmentState::Hit);
   EXPECT_NEAR(exact.fraction, 0.2, 1e-6);  // corner values are rounded to float
   ASSERT_EQ(exact.intervals.size(), 2u);
@@ -395,8 +392,9 @@ TEST(SegmentCcd, BisectionMissesFirstHitsOnRandomFieldsWhereExactFindsThem) {
   for (int n = 0; n < 3000; ++n) {
     const Vec3 p0(u(rng), u(rng), u(rng));
     const Vec3 p1 = p0 + len(rng) * Vec3(normal(rng), normal(rng), normal(rng)).normalized();
-    const SegmentCcdResult e = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit));
-    const SegmentCcdResult b = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
+    const SegmentCcdResult e = intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::FirstHit));
+    const SegmentCcdResult b =
+        intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
     exactHits += e.hit() ? 1 : 0;
     EXPECT_FALSE(b.hit() && !e.hit()) << describe(p0, p1, 0.0);  // bisection never invents a contact here
     if (e.hit() && !b.hit()) {
@@ -418,16 +416,16 @@ TEST(SegmentCcd, GrazingContactTouchingTheLevelSetCounts) {
   // lift or lower the minimum by ~1e-8: the touching level set is the computed minimum itself.
   double minimum = INFINITY;
   for (int s = 0; s <= 100000; ++s) minimum = std::min(minimum, test::phiAlong(field.grid(), p0, p1, s / 100000.0));
-  const SegmentCcdResult above = field.intersectSegment(p0, p1, settingsOf(minimum - 1e-6, CcdMode::AllIntervals));
+  const SegmentCcdResult above = intersectSegment(field, p0, p1, settingsOf(minimum - 1e-6, CcdMode::AllIntervals));
   EXPECT_EQ(above.state, SegmentState::Separated);
-  const SegmentCcdResult touching = field.intersectSegment(p0, p1, settingsOf(minimum + 1e-12, CcdMode::AllIntervals));
+  const SegmentCcdResult touching = intersectSegment(field, p0, p1, settingsOf(minimum + 1e-12, CcdMode::AllIntervals));
   ASSERT_EQ(touching.state, SegmentState::Hit);
   EXPECT_NEAR(touching.fraction, 0.5, 1e-4);
   // Exactly representable touching: phi = 4 (x-1/2)^2 along an edge (y = z = 0), corners 1 and 1 with a dip is
   // not trilinear; use the plane phi = x touching sigma = 0 at the start instead (touching counts).
   const GridField plane(test::sampleGrid({3, 3, 3}, Vec3::Zero(), 1.0, [](const Vec3& p) { return p.x(); }));
   const SegmentCcdResult atFace =
-      plane.intersectSegment(Vec3(0, 0.5, 0.5), Vec3(0, 1.5, 1.7), settingsOf(0.0, CcdMode::AllIntervals));
+      intersectSegment(plane, Vec3(0, 0.5, 0.5), Vec3(0, 1.5, 1.7), settingsOf(0.0, CcdMode::AllIntervals));
   EXPECT_EQ(atFace.state, SegmentState::StartsInside);
   ASSERT_EQ(atFace.intervals.size(), 1u);
   EXPECT_EQ(atFace.intervals[0].end, 1.0);
@@ -442,8 +440,9 @@ TEST(SegmentCcd, BisectionAgreesWithExactWhenEachCellHasOneCrossing) {
   std::uniform_real_distribution<double> u(0.0, 2.0);
   for (int n = 0; n < 200; ++n) {
     const Vec3 p0(u(rng), u(rng), u(rng)), p1(u(rng), u(rng), u(rng));
-    const SegmentCcdResult e = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit));
-    const SegmentCcdResult b = field.intersectSegment(p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
+    const SegmentCcdResult e = intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::FirstHit));
+    const SegmentCcdResult b =
+        intersectSegment(field, p0, p1, settingsOf(0.0, CcdMode::FirstHit, CcdMethod::Bisection));
     ASSERT_EQ(e.state, b.state);
     EXPECT_NEAR(e.fraction, b.fraction, 1e-9);
   }
@@ -467,9 +466,9 @@ TEST(SegmentCcd, AllOctreeModesGiveIdenticalAnswers) {
     const double sigma = n % 4 == 0 ? 0.0 : sig(rng);
     for (CcdMethod method : {CcdMethod::Exact, CcdMethod::Bisection}) {
       for (CcdMode mode : {CcdMode::FirstHit, CcdMode::AllIntervals}) {
-        const SegmentCcdResult off = field.intersectSegment(p0, p1, settingsOf(sigma, mode, method, OctreeMode::Off));
+        const SegmentCcdResult off = intersectSegment(field, p0, p1, settingsOf(sigma, mode, method, OctreeMode::Off));
         for (OctreeMode octree : {OctreeMode::Leaves, OctreeMode::Full}) {
-          const SegmentCcdResult r = field.intersectSegment(p0, p1, settingsOf(sigma, mode, method, octree));
+          const SegmentCcdResult r = intersectSegment(field, p0, p1, settingsOf(sigma, mode, method, octree));
           ASSERT_EQ(r.state, off.state) << describe(p0, p1, sigma);
           ASSERT_EQ(r.fraction, off.fraction) << describe(p0, p1, sigma);
           ASSERT_EQ(r.depth, off.depth);
@@ -499,9 +498,9 @@ int checkMaxFraction(const Field& field, const Box3& box, std::uint32_t seed, co
     const Vec3 p1 = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
     SegmentCcdSettings settings;
     settings.sigma = n % 3 == 0 ? 0.05 : 0.0;
-    const SegmentCcdResult full = field.intersectSegment(p0, p1, settings);
+    const SegmentCcdResult full = intersectSegment(field, p0, p1, settings);
     settings.maxFraction = n % 5 == 0 ? 0.0 : u(rng);
-    const SegmentCcdResult part = field.intersectSegment(p0, p1, settings);
+    const SegmentCcdResult part = intersectSegment(field, p0, p1, settings);
     const std::string where = what + ": " + describe(p0, p1, settings.sigma);
     if (full.hit() && full.fraction <= settings.maxFraction - 1e-12) {
       EXPECT_TRUE(part.hit()) << where;
@@ -513,7 +512,7 @@ int checkMaxFraction(const Field& field, const Box3& box, std::uint32_t seed, co
     }
     // AllIntervals ignores maxFraction.
     settings.mode = CcdMode::AllIntervals;
-    const SegmentCcdResult all = field.intersectSegment(p0, p1, settings);
+    const SegmentCcdResult all = intersectSegment(field, p0, p1, settings);
     EXPECT_EQ(all.fraction, full.fraction) << where;
   }
   return cut;

@@ -38,7 +38,7 @@ TEST(PlaneField, DistanceGradientAndNormalization) {
 TEST(PlaneField, CrossingTimeIsLinearInterpolation) {
   const PlaneField ground = PlaneField::ground();
   // From y = 3 to y = -1: crosses y = 0 at t = 3/4, in contact on [3/4, 1].
-  const auto r = ground.intersectSegment(Vec3(0.2, 3.0, 0.0), Vec3(1.0, -1.0, 0.5), allIntervals());
+  const auto r = intersectSegment(ground, Vec3(0.2, 3.0, 0.0), Vec3(1.0, -1.0, 0.5), allIntervals());
   EXPECT_EQ(r.state, SegmentState::Hit);
   EXPECT_DOUBLE_EQ(r.fraction, 0.75);
   ASSERT_EQ(r.intervals.size(), 1u);
@@ -47,10 +47,10 @@ TEST(PlaneField, CrossingTimeIsLinearInterpolation) {
   EXPECT_TRUE(r.normal.isApprox(Vec3::UnitY()));
   EXPECT_DOUBLE_EQ(r.depth, 0.0);
   // With sigma = 1 the level set y = 1 is reached at t = 1/2.
-  const auto s = ground.intersectSegment(Vec3(0.0, 3.0, 0.0), Vec3(0.0, -1.0, 0.0), allIntervals(1.0));
+  const auto s = intersectSegment(ground, Vec3(0.0, 3.0, 0.0), Vec3(0.0, -1.0, 0.0), allIntervals(1.0));
   EXPECT_DOUBLE_EQ(s.fraction, 0.5);
   // Moving up out of the ground: starts inside, leaves at t = 1/4.
-  const auto u = ground.intersectSegment(Vec3(0.0, -1.0, 0.0), Vec3(0.0, 3.0, 0.0), allIntervals());
+  const auto u = intersectSegment(ground, Vec3(0.0, -1.0, 0.0), Vec3(0.0, 3.0, 0.0), allIntervals());
   EXPECT_EQ(u.state, SegmentState::StartsInside);
   EXPECT_DOUBLE_EQ(u.fraction, 0.0);
   EXPECT_DOUBLE_EQ(u.depth, -1.0);
@@ -58,7 +58,7 @@ TEST(PlaneField, CrossingTimeIsLinearInterpolation) {
   EXPECT_DOUBLE_EQ(u.intervals[0].begin, 0.0);
   EXPECT_DOUBLE_EQ(u.intervals[0].end, 0.25);
   // Separated: both ends above.
-  const auto v = ground.intersectSegment(Vec3(0.0, 1.0, 0.0), Vec3(5.0, 0.1, 0.0), allIntervals());
+  const auto v = intersectSegment(ground, Vec3(0.0, 1.0, 0.0), Vec3(5.0, 0.1, 0.0), allIntervals());
   EXPECT_EQ(v.state, SegmentState::Separated);
   EXPECT_DOUBLE_EQ(v.fraction, 1.0);
   EXPECT_TRUE(v.intervals.empty());
@@ -67,31 +67,31 @@ TEST(PlaneField, CrossingTimeIsLinearInterpolation) {
 TEST(PlaneField, TouchingCountsZeroLengthIsAPointQueryFirstHitHasNoIntervals) {
   const PlaneField ground = PlaneField::ground();
   // Ends exactly on the plane: a hit at t = 1 with a degenerate interval.
-  const auto touch = ground.intersectSegment(Vec3(0.0, 2.0, 0.0), Vec3(0.0, 0.0, 0.0), allIntervals());
+  const auto touch = intersectSegment(ground, Vec3(0.0, 2.0, 0.0), Vec3(0.0, 0.0, 0.0), allIntervals());
   EXPECT_EQ(touch.state, SegmentState::Hit);
   EXPECT_DOUBLE_EQ(touch.fraction, 1.0);
   ASSERT_EQ(touch.intervals.size(), 1u);
   EXPECT_DOUBLE_EQ(touch.intervals[0].begin, 1.0);
   // Sliding along the plane: starts inside (touching), in contact all step.
-  const auto slide = ground.intersectSegment(Vec3(0.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals());
+  const auto slide = intersectSegment(ground, Vec3(0.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals());
   EXPECT_EQ(slide.state, SegmentState::StartsInside);
   EXPECT_DOUBLE_EQ(slide.intervals[0].end, 1.0);
   // Zero length.
-  EXPECT_EQ(ground.intersectSegment(Vec3(1, 2, 3), Vec3(1, 2, 3), allIntervals()).state, SegmentState::Separated);
-  const auto inside = ground.intersectSegment(Vec3(1, -2, 3), Vec3(1, -2, 3), allIntervals());
+  EXPECT_EQ(intersectSegment(ground, Vec3(1, 2, 3), Vec3(1, 2, 3), allIntervals()).state, SegmentState::Separated);
+  const auto inside = intersectSegment(ground, Vec3(1, -2, 3), Vec3(1, -2, 3), allIntervals());
   EXPECT_EQ(inside.state, SegmentState::StartsInside);
   EXPECT_DOUBLE_EQ(inside.depth, -2.0);
   // FirstHit: no intervals.
   SegmentCcdSettings first;
-  const auto f = ground.intersectSegment(Vec3(0.0, 1.0, 0.0), Vec3(0.0, -1.0, 0.0), first);
+  const auto f = intersectSegment(ground, Vec3(0.0, 1.0, 0.0), Vec3(0.0, -1.0, 0.0), first);
   EXPECT_EQ(f.state, SegmentState::Hit);
   EXPECT_DOUBLE_EQ(f.fraction, 0.5);
   EXPECT_TRUE(f.intervals.empty());
   // Non-finite input fails.
-  EXPECT_EQ(ground.intersectSegment(Vec3(std::nan(""), 0, 0), Vec3::Zero(), first).state, SegmentState::Failed);
+  EXPECT_EQ(intersectSegment(ground, Vec3(std::nan(""), 0, 0), Vec3::Zero(), first).state, SegmentState::Failed);
   SegmentCcdSettings nanSigma;
   nanSigma.sigma = std::nan("");
-  EXPECT_EQ(ground.intersectSegment(Vec3::Zero(), Vec3::Ones(), nanSigma).state, SegmentState::Failed);
+  EXPECT_EQ(intersectSegment(ground, Vec3::Zero(), Vec3::Ones(), nanSigma).state, SegmentState::Failed);
 }
 
 TEST(SphereField, DistanceAndGradient) {
@@ -108,7 +108,7 @@ TEST(SphereField, DistanceAndGradient) {
 TEST(SphereField, ThroughTheCentreEntersAndLeavesAtClosedFormTimes) {
   const SphereField sphere(Vec3::Zero(), 1.0);
   // x from -3 to 3: inside on |x| <= 1, i.e. t in [1/3, 2/3].
-  const auto r = sphere.intersectSegment(Vec3(-3.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals());
+  const auto r = intersectSegment(sphere, Vec3(-3.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals());
   EXPECT_EQ(r.state, SegmentState::Hit);
   EXPECT_NEAR(r.fraction, 1.0 / 3.0, 1e-15);
   ASSERT_EQ(r.intervals.size(), 1u);
@@ -116,51 +116,51 @@ TEST(SphereField, ThroughTheCentreEntersAndLeavesAtClosedFormTimes) {
   EXPECT_NEAR(r.intervals[0].end, 2.0 / 3.0, 1e-15);
   EXPECT_TRUE(r.normal.isApprox(-Vec3::UnitX(), 1e-12));
   // sigma = 0.5: the level set is the sphere of radius 1.5; x in [-1.5, 1.5] is t in [1/4, 3/4].
-  const auto s = sphere.intersectSegment(Vec3(-3.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals(0.5));
+  const auto s = intersectSegment(sphere, Vec3(-3.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals(0.5));
   EXPECT_NEAR(s.intervals[0].begin, 0.25, 1e-15);
   EXPECT_NEAR(s.intervals[0].end, 0.75, 1e-15);
   // Offset chord at height h = 0.6: half chord sqrt(1 - 0.36) = 0.8, so x in [-0.8, 0.8].
-  const auto c = sphere.intersectSegment(Vec3(-2.0, 0.6, 0.0), Vec3(2.0, 0.6, 0.0), allIntervals());
+  const auto c = intersectSegment(sphere, Vec3(-2.0, 0.6, 0.0), Vec3(2.0, 0.6, 0.0), allIntervals());
   EXPECT_NEAR(c.intervals[0].begin, (2.0 - 0.8) / 4.0, 1e-15);
   EXPECT_NEAR(c.intervals[0].end, (2.0 + 0.8) / 4.0, 1e-15);
   // A miss.
-  EXPECT_EQ(sphere.intersectSegment(Vec3(-2.0, 1.2, 0.0), Vec3(2.0, 1.2, 0.0), allIntervals()).state,
+  EXPECT_EQ(intersectSegment(sphere, Vec3(-2.0, 1.2, 0.0), Vec3(2.0, 1.2, 0.0), allIntervals()).state,
             SegmentState::Separated);
   // A segment that stops before reaching the sphere.
-  EXPECT_EQ(sphere.intersectSegment(Vec3(-3.0, 0.0, 0.0), Vec3(-1.5, 0.0, 0.0), allIntervals()).state,
+  EXPECT_EQ(intersectSegment(sphere, Vec3(-3.0, 0.0, 0.0), Vec3(-1.5, 0.0, 0.0), allIntervals()).state,
             SegmentState::Separated);
   // A level set below -r is empty.
-  EXPECT_EQ(sphere.intersectSegment(Vec3(-3.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals(-1.5)).state,
+  EXPECT_EQ(intersectSegment(sphere, Vec3(-3.0, 0.0, 0.0), Vec3(3.0, 0.0, 0.0), allIntervals(-1.5)).state,
             SegmentState::Separated);
 }
 
 TEST(SphereField, GrazingStartingInsideAndZeroLength) {
   const SphereField sphere(Vec3::Zero(), 1.0);
   // Tangent line y = 1: touches at x = 0 (t = 1/2); touching counts.
-  const auto g = sphere.intersectSegment(Vec3(-1.0, 1.0, 0.0), Vec3(1.0, 1.0, 0.0), allIntervals());
+  const auto g = intersectSegment(sphere, Vec3(-1.0, 1.0, 0.0), Vec3(1.0, 1.0, 0.0), allIntervals());
   EXPECT_EQ(g.state, SegmentState::Hit);
   EXPECT_NEAR(g.fraction, 0.5, 1e-15);
   ASSERT_EQ(g.intervals.size(), 1u);
   EXPECT_NEAR(g.intervals[0].end - g.intervals[0].begin, 0.0, 1e-15);
   // Starting inside at the centre, leaving at x = 1 (t = 1/4).
-  const auto in = sphere.intersectSegment(Vec3::Zero(), Vec3(4.0, 0.0, 0.0), allIntervals());
+  const auto in = intersectSegment(sphere, Vec3::Zero(), Vec3(4.0, 0.0, 0.0), allIntervals());
   EXPECT_EQ(in.state, SegmentState::StartsInside);
   EXPECT_DOUBLE_EQ(in.fraction, 0.0);
   EXPECT_DOUBLE_EQ(in.depth, -1.0);
   EXPECT_NEAR(in.intervals[0].end, 0.25, 1e-15);
   // Entirely inside.
-  const auto all = sphere.intersectSegment(Vec3(-0.5, 0, 0), Vec3(0.5, 0, 0), allIntervals());
+  const auto all = intersectSegment(sphere, Vec3(-0.5, 0, 0), Vec3(0.5, 0, 0), allIntervals());
   EXPECT_EQ(all.state, SegmentState::StartsInside);
   EXPECT_DOUBLE_EQ(all.intervals[0].end, 1.0);
   // Zero length outside and inside.
-  EXPECT_EQ(sphere.intersectSegment(Vec3(2, 0, 0), Vec3(2, 0, 0), allIntervals()).state, SegmentState::Separated);
-  EXPECT_EQ(sphere.intersectSegment(Vec3(0.5, 0, 0), Vec3(0.5, 0, 0), allIntervals()).state,
+  EXPECT_EQ(intersectSegment(sphere, Vec3(2, 0, 0), Vec3(2, 0, 0), allIntervals()).state, SegmentState::Separated);
+  EXPECT_EQ(intersectSegment(sphere, Vec3(0.5, 0, 0), Vec3(0.5, 0, 0), allIntervals()).state,
             SegmentState::StartsInside);
   // Ending exactly on the sphere.
-  const auto end = sphere.intersectSegment(Vec3(3, 0, 0), Vec3(1, 0, 0), allIntervals());
+  const auto end = intersectSegment(sphere, Vec3(3, 0, 0), Vec3(1, 0, 0), allIntervals());
   EXPECT_EQ(end.state, SegmentState::Hit);
   EXPECT_DOUBLE_EQ(end.fraction, 1.0);
-  EXPECT_EQ(sphere.intersectSegment(Vec3(std::nan(""), 0, 0), Vec3(1, 0, 0), allIntervals()).state,
+  EXPECT_EQ(intersectSegment(sphere, Vec3(std::nan(""), 0, 0), Vec3(1, 0, 0), allIntervals()).state,
             SegmentState::Failed);
 }
 
@@ -173,7 +173,7 @@ TEST(SphereField, RandomSegmentsMatchDenseSampling) {
     const Vec3 p0(u(rng), u(rng), u(rng));
     const Vec3 p1(u(rng), u(rng), u(rng));
     const double sigma = 0.25 * u(rng) / 3.0;
-    const auto r = sphere.intersectSegment(p0, p1, allIntervals(sigma));
+    const auto r = intersectSegment(sphere, p0, p1, allIntervals(sigma));
     // Dense sampling: every sample inside the level set lies in a reported interval (to the sampling step),
     // and the first inside sample is at the reported first hit.
     const int samples = 4000;
@@ -214,7 +214,7 @@ int checkRandomSegments(const Field& field, unsigned seed) {
     if (n % 5 == 2) p1 = p0 + Vec3(0.0, u(rng), 0.0);  // along y
     if (n % 50 == 3) p1 = p0;                          // zero length
     const double sigma = n % 7 == 0 ? 0.0 : 0.3 * u(rng) / 3.0;
-    const auto r = field.intersectSegment(p0, p1, allIntervals(sigma));
+    const auto r = intersectSegment(field, p0, p1, allIntervals(sigma));
     EXPECT_LE(r.intervals.size(), 1u);  // convex: one interval at most
     const int samples = 3000;
     double firstInside = -1.0;
@@ -288,7 +288,7 @@ TEST(BoxField, DistanceAndGradientMatchBruteForce) {
 TEST(BoxField, ClosedFormTimesAndEdgeCases) {
   const BoxField box(Vec3(1.0, 0.5, 1.5));
   // Along x through the centre: enters the face x = 1 at t = 0.25 (from x = 2 to -2), leaves at 0.75.
-  const auto through = box.intersectSegment(Vec3(2, 0, 0), Vec3(-2, 0, 0), allIntervals());
+  const auto through = intersectSegment(box, Vec3(2, 0, 0), Vec3(-2, 0, 0), allIntervals());
   EXPECT_EQ(through.state, SegmentState::Hit);
   EXPECT_DOUBLE_EQ(through.fraction, 0.25);
   ASSERT_EQ(through.intervals.size(), 1u);
@@ -296,29 +296,29 @@ TEST(BoxField, ClosedFormTimesAndEdgeCases) {
   EXPECT_TRUE(through.normal.isApprox(Vec3::UnitX()));
   // sigma = 0.5 near an edge: the rounded box. p(t) = (3 - 4t, 3 - 4t, 0) first meets the rounding of the edge
   // x = 1, y = 0.5: |(2 - 4t, 2.5 - 4t)| = 0.5 at 2 u^2 + u = 0 with u = 2 - 4t, so t = 1/2.
-  const auto rounded = box.intersectSegment(Vec3(3, 3, 0), Vec3(-1, -1, 0), allIntervals(0.5));
+  const auto rounded = intersectSegment(box, Vec3(3, 3, 0), Vec3(-1, -1, 0), allIntervals(0.5));
   EXPECT_EQ(rounded.state, SegmentState::Hit);
   EXPECT_NEAR(rounded.fraction, 0.5, 1e-15);
   EXPECT_TRUE(rounded.normal.isApprox(Vec3(0, 1, 0)));
   // Sliding along the top face (touching counts): starts inside, in contact all step.
-  const auto slide = box.intersectSegment(Vec3(-2, 0.5, 0), Vec3(2, 0.5, 0), allIntervals());
+  const auto slide = intersectSegment(box, Vec3(-2, 0.5, 0), Vec3(2, 0.5, 0), allIntervals());
   EXPECT_EQ(slide.state, SegmentState::Hit);  // x = -2 is outside; touches the face from x = -1
   EXPECT_DOUBLE_EQ(slide.fraction, 0.25);
   EXPECT_DOUBLE_EQ(slide.intervals[0].end, 0.75);
   // Starting inside, sigma negative (an inner box).
-  const auto inside = box.intersectSegment(Vec3(0, 0, 0), Vec3(0, 2, 0), allIntervals(-0.25));
+  const auto inside = intersectSegment(box, Vec3(0, 0, 0), Vec3(0, 2, 0), allIntervals(-0.25));
   EXPECT_EQ(inside.state, SegmentState::StartsInside);
   EXPECT_DOUBLE_EQ(inside.depth, -0.25);
   EXPECT_DOUBLE_EQ(inside.intervals[0].end, 0.125);  // y <= 0.25
   // Zero length, FirstHit, NaN.
-  EXPECT_EQ(box.intersectSegment(Vec3(5, 5, 5), Vec3(5, 5, 5), allIntervals()).state, SegmentState::Separated);
-  EXPECT_EQ(box.intersectSegment(Vec3(0.5, 0, 0), Vec3(0.5, 0, 0), allIntervals()).state, SegmentState::StartsInside);
+  EXPECT_EQ(intersectSegment(box, Vec3(5, 5, 5), Vec3(5, 5, 5), allIntervals()).state, SegmentState::Separated);
+  EXPECT_EQ(intersectSegment(box, Vec3(0.5, 0, 0), Vec3(0.5, 0, 0), allIntervals()).state, SegmentState::StartsInside);
   SegmentCcdSettings first;
   first.mode = CcdMode::FirstHit;
-  const auto firstHit = box.intersectSegment(Vec3(2, 0, 0), Vec3(-2, 0, 0), first);
+  const auto firstHit = intersectSegment(box, Vec3(2, 0, 0), Vec3(-2, 0, 0), first);
   EXPECT_DOUBLE_EQ(firstHit.fraction, 0.25);
   EXPECT_TRUE(firstHit.intervals.empty());
-  EXPECT_EQ(box.intersectSegment(Vec3(0, 0, 0), Vec3(std::nan(""), 0, 0), allIntervals()).state, SegmentState::Failed);
+  EXPECT_EQ(intersectSegment(box, Vec3(0, 0, 0), Vec3(std::nan(""), 0, 0), allIntervals()).state, SegmentState::Failed);
 }
 
 TEST(BoxField, RandomSegmentsMatchDenseSampling) {
@@ -364,24 +364,24 @@ TEST(CapsuleField, DistanceAndGradientMatchBruteForce) {
 TEST(CapsuleField, ClosedFormTimesAndEdgeCases) {
   const CapsuleField capsule(0.5, 1.0);  // axis y from -1 to 1
   // Down the axis from y = 3 to y = -3: enters the top cap at y = 1.5 (t = 0.25), leaves at y = -1.5 (0.75).
-  const auto axial = capsule.intersectSegment(Vec3(0, 3, 0), Vec3(0, -3, 0), allIntervals());
+  const auto axial = intersectSegment(capsule, Vec3(0, 3, 0), Vec3(0, -3, 0), allIntervals());
   EXPECT_EQ(axial.state, SegmentState::Hit);
   EXPECT_DOUBLE_EQ(axial.fraction, 0.25);
   EXPECT_DOUBLE_EQ(axial.intervals[0].end, 0.75);
   EXPECT_TRUE(axial.normal.isApprox(Vec3::UnitY()));
   // Across the cylinder at y = 0.2 from x = 2 to x = -2: |x| <= 0.5 on [0.375, 0.625].
-  const auto across = capsule.intersectSegment(Vec3(2, 0.2, 0), Vec3(-2, 0.2, 0), allIntervals());
+  const auto across = intersectSegment(capsule, Vec3(2, 0.2, 0), Vec3(-2, 0.2, 0), allIntervals());
   EXPECT_DOUBLE_EQ(across.fraction, 0.375);
   EXPECT_DOUBLE_EQ(across.intervals[0].end, 0.625);
   // With sigma = 0.5 the capsule grows to radius 1.
-  EXPECT_DOUBLE_EQ(capsule.intersectSegment(Vec3(2, 0.2, 0), Vec3(-2, 0.2, 0), allIntervals(0.5)).fraction, 0.25);
+  EXPECT_DOUBLE_EQ(intersectSegment(capsule, Vec3(2, 0.2, 0), Vec3(-2, 0.2, 0), allIntervals(0.5)).fraction, 0.25);
   // A sigma below -radius: nothing is inside.
-  EXPECT_EQ(capsule.intersectSegment(Vec3(0, 0, 0), Vec3(0, 0.1, 0), allIntervals(-0.6)).state,
+  EXPECT_EQ(intersectSegment(capsule, Vec3(0, 0, 0), Vec3(0, 0.1, 0), allIntervals(-0.6)).state,
             SegmentState::Separated);
   // A sphere when halfHeight = 0.
   const CapsuleField ball(0.5, 0.0);
-  EXPECT_DOUBLE_EQ(ball.intersectSegment(Vec3(0, 2, 0), Vec3(0, -2, 0), allIntervals()).fraction, 0.375);
-  EXPECT_EQ(capsule.intersectSegment(Vec3(0, 0, 0), Vec3(0, 0, std::nan("")), allIntervals()).state,
+  EXPECT_DOUBLE_EQ(intersectSegment(ball, Vec3(0, 2, 0), Vec3(0, -2, 0), allIntervals()).fraction, 0.375);
+  EXPECT_EQ(intersectSegment(capsule, Vec3(0, 0, 0), Vec3(0, 0, std::nan("")), allIntervals()).state,
             SegmentState::Failed);
 }
 

@@ -42,9 +42,9 @@ TEST(PenaltyDirection, FieldGradientPushesAlongThePlaneNormalShellNormalAlongThe
   Rigid worldFromSdf = Rigid::Identity();
   worldFromSdf.linear() = Eigen::AngleAxisd(M_PI / 6, Vec3::UnitZ()).toRotationMatrix();
   const Vec3 planeNormalInWorld = worldFromSdf.linear() * Vec3::UnitY();
-  const PenaltyBodyMotion fieldBody = PenaltyBodyMotion::fixed(worldFromSdf);
+  const FieldMotion fieldBody = FieldMotion::fixed(worldFromSdf);
   // The shell body sits so that its point (at its origin) is at depth b in the plane, not moving.
-  const PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(Rigid(worldFromSdf * Eigen::Translation3d(0, -b, 0)));
+  const ShellMotion shell = ShellMotion::fixed(Rigid(worldFromSdf * Eigen::Translation3d(0, -b, 0)));
   const Vec3 tiltedNormal = Vec3(0.6, -0.8, 0.0);  // shell frame = world rotation of the field frame here
   const std::vector<Vec3> points = {Vec3::Zero()};
   const RigidCcdResult ccd = insideForTheWholeStep(tiltedNormal);
@@ -57,7 +57,7 @@ TEST(PenaltyDirection, FieldGradientPushesAlongThePlaneNormalShellNormalAlongThe
 
   const PenaltyResult normal =
       integratePenalty(points, plane, ccd, shell, fieldBody, dt, springOnly(PenaltyDirection::ShellNormal));
-  const Vec3 expectedNormal = -k * b * dt * (shell.worldFromBodyStart.linear() * tiltedNormal);
+  const Vec3 expectedNormal = -k * b * dt * (shell.worldFromShellStart.linear() * tiltedNormal);
   EXPECT_LT((normal.impulseOnShell - expectedNormal).norm(), 1e-12) << normal.impulseOnShell.transpose();
   // The default is the paper's.
   EXPECT_EQ(PenaltySettings{}.direction, PenaltyDirection::ShellNormal);

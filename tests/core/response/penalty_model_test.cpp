@@ -7,14 +7,15 @@
 #include <cmath>
 
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 
 namespace sdfccd {
 namespace {
 
-// phi(p) = p.y: the half space y < 0 is inside. Local to the test so that it depends on nothing else.
-struct TestPlaneField {
-  double distance(const Vec3& pointInSdf) const { return pointInSdf.y(); }
-};
+// phi(p) = p.y: the half space y < 0 is inside.
+PlaneField testPlane() {
+  return PlaneField::ground();
+}
 
 RigidCcdResult oneContact(int point, const Vec3& normalInShell, std::initializer_list<Interval> intervals) {
   RigidCcdResult r;
@@ -48,13 +49,13 @@ PenaltySettings springOnly(double k, int pieces) {
 TEST(PenaltyModel, PointThroughPlaneMatchesClosedForm) {
   const double a = 0.03, b = 0.01, k = 2000.0, dt = 0.01;
   const std::vector<Vec3> points = {Vec3::Zero()};
-  PenaltyBodyMotion shell;
-  shell.worldFromBodyStart = translation(Vec3(0, a, 0));
-  shell.worldFromBodyEnd = translation(Vec3(0, -b, 0));
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  ShellMotion shell;
+  shell.worldFromShellStart = translation(Vec3(0, a, 0));
+  shell.worldFromShellEnd = translation(Vec3(0, -b, 0));
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{a / (a + b), 1.0}});
   for (int pieces : {1, 5, 17}) {
-    const PenaltyResult r = integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, springOnly(k, pieces));
+    const PenaltyResult r = integratePenalty(points, testPlane(), ccd, shell, ground, dt, springOnly(k, pieces));
     const double expected = k * dt * b * b / (2 * (a + b));
     EXPECT_NEAR(r.impulseOnShell.y(), expected, 1e-12 * expected);
     EXPECT_NEAR(r.impulseOnShell.x(), 0.0, 1e-15);
@@ -71,16 +72,15 @@ TEST(PenaltyModel, PointThroughPlaneMatchesClosedForm) {
 // midpoint rule converges at second order towards the limit.
 TEST(PenaltyModel, MidpointRuleConvergesWithTurningNormal) {
   const std::vector<Vec3> points = {Vec3(0, -0.5, 0)};
-  PenaltyBodyMotion shell;
-  shell.worldFromBodyStart = translation(Vec3(0, 0.49, 0));
-  shell.worldFromBodyEnd = translation(Vec3(0.0, 0.47, 0));
-  shell.worldFromBodyEnd.linear() = Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix();
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  ShellMotion shell;
+  shell.worldFromShellStart = translation(Vec3(0, 0.49, 0));
+  shell.worldFromShellEnd = translation(Vec3(0.0, 0.47, 0));
+  shell.worldFromShellEnd.linear() = Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix();
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
   const double dt = 0.001;
   auto impulse = [&](int pieces) {
-    return integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, springOnly(1000.0, pieces))
-        .impulseOnShell;
+    return integratePenalty(points, testPlane(), ccd, shell, ground, dt, springOnly(1000.0, pieces)).impulseOnShell;
   };
   const Vec3 reference = impulse(20000);
   const double e5 = (impulse(5) - reference).norm();
@@ -96,11 +96,11 @@ TEST(PenaltyModel, MidpointRuleConvergesWithTurningNormal) {
 TEST(PenaltyModel, TorqueAboutKnownHandle) {
   const double k = 500.0, dt = 0.002, depth = 0.01;
   const std::vector<Vec3> points = {Vec3(1.0, -depth, 0.0)};
-  const PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(Rigid::Identity());  // COM at the origin
-  PenaltyBodyMotion field = PenaltyBodyMotion::fixed(Rigid::Identity());
-  field.centerOfMassInBody = Vec3(0, -2, 0);
+  const ShellMotion shell = ShellMotion::fixed(Rigid::Identity());  // COM at the origin
+  FieldMotion field = FieldMotion::fixed(Rigid::Identity());
+  field.centerOfMassInSdf = Vec3(0, -2, 0);
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
-  const PenaltyResult r = integratePenalty(points, TestPlaneField{}, ccd, shell, field, dt, springOnly(k, 5));
+  const PenaltyResult r = integratePenalty(points, testPlane(), ccd, shell, field, dt, springOnly(k, 5));
   const double f = k * depth;
   EXPECT_NEAR(r.forceOnShell.y(), f, 1e-9);
   EXPECT_NEAR(r.torqueOnShell.z(), 1.0 * f, 1e-9);
@@ -112,7 +112,7 @@ TEST(PenaltyModel, TorqueAboutKnownHandle) {
 
   PenaltySettings noRotation = springOnly(k, 5);
   noRotation.enableRotation = false;
-  const PenaltyResult r2 = integratePenalty(points, TestPlaneField{}, ccd, shell, field, dt, noRotation);
+  const PenaltyResult r2 = integratePenalty(points, testPlane(), ccd, shell, field, dt, noRotation);
   EXPECT_EQ(r2.torqueOnShell, Vec3::Zero());
   EXPECT_NEAR(r2.forceOnShell.y(), f, 1e-9);
 }
@@ -121,36 +121,36 @@ TEST(PenaltyModel, TorqueAboutKnownHandle) {
 TEST(PenaltyModel, DampingOpposesApproachAndNeverPulls) {
   const double k = 1000.0, c = 20.0, dt = 0.001, depth = 0.002, speed = 0.5;
   const std::vector<Vec3> points = {Vec3(0, -depth, 0)};
-  PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(Rigid::Identity());
-  shell.linearVelocityStart = shell.linearVelocityEnd = Vec3(0, -speed, 0);  // the poses stay put: pure rate
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  ShellMotion shell = ShellMotion::fixed(Rigid::Identity());
+  shell.velocity.linearStart = shell.velocity.linearEnd = Vec3(0, -speed, 0);  // the poses stay put: pure rate
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
   PenaltySettings s = springOnly(k, 5);
   s.damping = c;
-  EXPECT_NEAR(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).forceOnShell.y(), k * depth, 1e-9);
+  EXPECT_NEAR(integratePenalty(points, testPlane(), ccd, shell, ground, dt, s).forceOnShell.y(), k * depth, 1e-9);
   s.enableDamping = true;
-  EXPECT_NEAR(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).forceOnShell.y(),
-              k * depth + c * speed, 1e-9);
-  shell.linearVelocityStart = shell.linearVelocityEnd = Vec3(0, 10.0, 0);  // separating fast
-  EXPECT_NEAR(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).forceOnShell.y(), 0.0, 1e-12);
+  EXPECT_NEAR(integratePenalty(points, testPlane(), ccd, shell, ground, dt, s).forceOnShell.y(), k * depth + c * speed,
+              1e-9);
+  shell.velocity.linearStart = shell.velocity.linearEnd = Vec3(0, 10.0, 0);  // separating fast
+  EXPECT_NEAR(integratePenalty(points, testPlane(), ccd, shell, ground, dt, s).forceOnShell.y(), 0.0, 1e-12);
 }
 
 // Discrete baseline: only the end pose counts; a point that ends outside gives nothing even if it was in.
 TEST(PenaltyModel, DiscreteUsesEndDepthOnly) {
   const double k = 2000.0, dt = 0.01;
   const std::vector<Vec3> points = {Vec3::Zero()};
-  PenaltyBodyMotion shell;
-  shell.worldFromBodyStart = translation(Vec3(0, 0.05, 0));
-  shell.worldFromBodyEnd = translation(Vec3(0, -0.01, 0));
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  ShellMotion shell;
+  shell.worldFromShellStart = translation(Vec3(0, 0.05, 0));
+  shell.worldFromShellEnd = translation(Vec3(0, -0.01, 0));
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{5.0 / 6.0, 1.0}});
   PenaltySettings s = springOnly(k, 5);
   s.model = PenaltyModel::Discrete;
-  const PenaltyResult r = integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s);
+  const PenaltyResult r = integratePenalty(points, testPlane(), ccd, shell, ground, dt, s);
   EXPECT_NEAR(r.forceOnShell.y(), k * 0.01, 1e-9);
   EXPECT_NEAR(r.impulseOnShell.y(), k * 0.01 * dt, 1e-12);
-  shell.worldFromBodyEnd = translation(Vec3(0, 0.01, 0));
-  EXPECT_EQ(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).contactCount, 0);
+  shell.worldFromShellEnd = translation(Vec3(0, 0.01, 0));
+  EXPECT_EQ(integratePenalty(points, testPlane(), ccd, shell, ground, dt, s).contactCount, 0);
 }
 
 // Friction (beyond the paper): Coulomb mu |F_n| against the slip above the slip speed, viscous below it;
@@ -158,34 +158,35 @@ TEST(PenaltyModel, DiscreteUsesEndDepthOnly) {
 TEST(PenaltyModel, FrictionOpposesSlip) {
   const double k = 1000.0, dt = 0.001, depth = 0.002, mu = 0.5;
   const std::vector<Vec3> points = {Vec3(0, -depth, 0)};
-  PenaltyBodyMotion shell = PenaltyBodyMotion::fixed(Rigid::Identity());
-  shell.linearVelocityStart = shell.linearVelocityEnd = Vec3(0.3, 0, 0);
-  const PenaltyBodyMotion ground = PenaltyBodyMotion::fixed(Rigid::Identity());
+  ShellMotion shell = ShellMotion::fixed(Rigid::Identity());
+  shell.velocity.linearStart = shell.velocity.linearEnd = Vec3(0.3, 0, 0);
+  const FieldMotion ground = FieldMotion::fixed(Rigid::Identity());
   const RigidCcdResult ccd = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
   PenaltySettings s = springOnly(k, 5);
   s.friction = mu;
-  EXPECT_NEAR(integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s).forceOnShell.x(), 0.0, 1e-15);
+  EXPECT_NEAR(integratePenalty(points, testPlane(), ccd, shell, ground, dt, s).forceOnShell.x(), 0.0, 1e-15);
   s.enableFriction = true;
-  PenaltyResult r = integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s);
+  PenaltyResult r = integratePenalty(points, testPlane(), ccd, shell, ground, dt, s);
   EXPECT_NEAR(r.forceOnShell.x(), -mu * k * depth, 1e-9);
   EXPECT_NEAR(r.forceOnShell.y(), k * depth, 1e-9);
   EXPECT_NEAR(r.forceOnField.x(), mu * k * depth, 1e-9);
-  shell.linearVelocityStart = shell.linearVelocityEnd = Vec3(0, 0, 0.25 * s.frictionSlipSpeed);
-  r = integratePenalty(points, TestPlaneField{}, ccd, shell, ground, dt, s);
+  shell.velocity.linearStart = shell.velocity.linearEnd = Vec3(0, 0, 0.25 * s.frictionSlipSpeed);
+  r = integratePenalty(points, testPlane(), ccd, shell, ground, dt, s);
   EXPECT_NEAR(r.forceOnShell.z(), -0.25 * mu * k * depth, 1e-9);
 }
 
 TEST(PenaltyModel, RejectsBadInput) {
   const std::vector<Vec3> points = {Vec3::Zero()};
-  const PenaltyBodyMotion fixed = PenaltyBodyMotion::fixed(Rigid::Identity());
+  const ShellMotion fixed = ShellMotion::fixed(Rigid::Identity());
+  const FieldMotion fixedField = FieldMotion::fixed(Rigid::Identity());
   const RigidCcdResult ccd = oneContact(3, Vec3(0, -1, 0), {{0.0, 1.0}});
-  EXPECT_THROW(integratePenalty(points, TestPlaneField{}, ccd, fixed, fixed, 0.01, PenaltySettings{}), Error);
+  EXPECT_THROW(integratePenalty(points, testPlane(), ccd, fixed, fixedField, 0.01, PenaltySettings{}), Error);
   const RigidCcdResult ok = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
-  EXPECT_THROW(integratePenalty(points, TestPlaneField{}, ok, fixed, fixed, 0.0, PenaltySettings{}), Error);
-  EXPECT_THROW(integratePenalty(points, TestPlaneField{}, ok, fixed, fixed, NAN, PenaltySettings{}), Error);
+  EXPECT_THROW(integratePenalty(points, testPlane(), ok, fixed, fixedField, 0.0, PenaltySettings{}), Error);
+  EXPECT_THROW(integratePenalty(points, testPlane(), ok, fixed, fixedField, NAN, PenaltySettings{}), Error);
   PenaltySettings s;
   s.subintervals = 0;
-  EXPECT_THROW(integratePenalty(points, TestPlaneField{}, ok, fixed, fixed, 0.01, s), Error);
+  EXPECT_THROW(integratePenalty(points, testPlane(), ok, fixed, fixedField, 0.01, s), Error);
 }
 
 }  // namespace

@@ -3,9 +3,9 @@
 /// the work is done by SdfccdContactSystem::processPair.
 ///
 /// @details One instance per overlapping pair, pool-allocated by the dispatcher. It holds only two pointers
-/// and two flags (its size is checked at compile time against Bullet's smallest built-in algorithm that
-/// sets the pool's element size), so it always fits the collision algorithm pool; scratch memory lives in
-/// the contact system. It owns one persistent manifold through which contacts are reported.
+/// and two flags (its size is checked at compile time against btConvexConvexAlgorithm, one of the built-in
+/// algorithms whose largest size sets the pool's element size), so it always fits the collision algorithm
+/// pool; scratch memory lives in the contact system. It owns one persistent manifold through which contacts are reported.
 #pragma once
 
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>

@@ -12,7 +12,8 @@
 ///    integrateTransforms perform), which is the actual end of the step because our contacts add no solver
 ///    rows. (getInterpolationWorldTransform at this point omits gravity: it is off by g dt^2.) The continuous
 ///    penalty model integrates impulse and angular impulse over the contact sub-intervals (eqs. 3-4) — or the
-///    discrete model at the end pose.
+///    discrete model at the end pose. Both run in one core call, queryContacts (contact_query.h), on the
+///    frames of the shell's body and of the field (the model's field frame in its body).
 /// 2. The impulses I and M reach the velocities as impulses (eq. 5: the averaged force F* = I/dt acting over
 ///    a step is the impulse F* dt; forces applied with applyCentralForce would accumulate over substeps
 ///    until clearForces). When, is a setting (SdfccdForceTiming): the paper's "over the next step" (in
@@ -45,10 +46,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/response/contact_query.h"
 #include "sdfccd/response/penalty_model.h"
 #include "sdfccd/shell/point_tree.h"
-#include "sdfccd/ccd/rigid_ccd.h"
 
 class btCollisionDispatcher;
 class btCollisionObject;
@@ -111,7 +113,7 @@ struct SdfccdPairContact {
   double firstFraction = 1.0;         ///< earliest first hit of the step (fraction)
 };
 
-/// Counters, cumulative since construction or resetStatistics().
+/// Counters, cumulative since construction.
 struct SdfccdContactStatistics {
   double ccdSeconds = 0.0;            ///< CPU time of the calling thread in rigid CCD queries (s), all fields
   double groundCcdSeconds = 0.0;      ///< the part of ccdSeconds spent against static planes (s)
@@ -125,7 +127,7 @@ struct SdfccdContactStatistics {
   /// processPair calls skipped because a body's pose, velocity or motion was NaN or infinite: such a body
   /// gets no contact, so nothing non-finite reaches the other body (SceneWorld rejects it before the step).
   std::int64_t nonFinitePairs = 0;
-  double maxPenetrationCells = 0.0;   ///< largest penetration seen (cells)
+  double maxPenetrationCells = 0.0;  ///< largest penetration seen (cells)
   // Work counters: what each effect cost (zero when a scene does not ask for the effect).
   std::int64_t groundCcdQueries = 0;     ///< rigid CCD queries against static planes (the "ground" effect)
   std::int64_t penaltySamples = 0;       ///< penalty force samples in contact (PenaltyResult::samples)
@@ -164,7 +166,6 @@ class SdfccdContactSystem : public btActionInterface {
   double lastStepMaxPenetrationCells() const { return m_lastMaxPenetrationCells; }
   int lastStepClamps() const { return m_lastClamps; }
   const SdfccdContactStatistics& statistics() const { return m_stats; }
-  void resetStatistics() { m_stats = {}; }
 
   /// Called by SdfccdCollisionAlgorithm. `closestPointsOnly`: a contactTest query: report the points inside
   /// at the current poses, change nothing.
@@ -191,7 +192,7 @@ class SdfccdContactSystem : public btActionInterface {
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
   std::vector<SdfccdPairContact> m_lastContacts;
-  RigidCcdResult m_scratch;
+  ContactQueryResult m_scratch;  // reused by every role: keeps the CCD's buffers
   RigidCcdResult m_shadowScratch;
   std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;

@@ -20,14 +20,11 @@
 #include "sdfccd/ccd/cell_cubic.h"
 #include "sdfccd/ccd/cubic_roots.h"
 #include "sdfccd/ccd/grid_walk.h"
-#include "sdfccd/field/min_distance_octree.h"
 #include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/field/min_distance_octree.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd::detail {
-
-/// Intervals closer than this (fraction of the step) are merged: across a cell face the two cells' cubics
-/// agree only to rounding, which can open a gap of a few ulps where the true field stays in contact.
-constexpr double kIntervalMergeGap = 1e-12;
 
 /// Regula falsi iterations of the bisection method (the paper uses 5).
 constexpr int kBisectionIterations = 5;
@@ -48,7 +45,7 @@ struct WalkOutput {
 };
 
 inline void appendMerged(IntervalList& list, double begin, double end) {
-  if (!list.empty() && begin <= list.back().end + kIntervalMergeGap) {
+  if (!list.empty() && begin <= list.back().end + tolerance::kIntervalMergeGap) {
     if (end > list.back().end) list.back().end = end;
     return;
   }
@@ -167,11 +164,11 @@ void walkSegment(const WalkContext& ctx, GridWalk& walk, bool pointOnly, WalkOut
         b = tOut;
       } else {
         double lo = 0.0, hi = 1.0, gLo = gIn, gHi = gOut, beta = 0.0;
-        const double tolerance = 1e-12 * (std::abs(gIn) + std::abs(gOut));
+        const double residual = tolerance::kRegulaFalsiResidual * (std::abs(gIn) + std::abs(gOut));
         for (int iteration = 0; iteration < kBisectionIterations; ++iteration) {
           beta = lo + (hi - lo) * gLo / (gLo - gHi);
           const double gBeta = trilinear(c, wIn + beta * (wOut - wIn)) - sigma;
-          if (std::abs(gBeta) <= tolerance) break;
+          if (std::abs(gBeta) <= residual) break;
           if ((gBeta <= 0.0) == (gLo <= 0.0)) {
             lo = beta;
             gLo = gBeta;

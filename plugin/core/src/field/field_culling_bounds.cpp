@@ -1,15 +1,13 @@
 /// @file
-/// @brief Lipschitz and boundary bounds of grid fields for the point tree's culling (see field_culling_bounds.h).
+/// @brief The Lipschitz and boundary bounds of a grid for the point tree's culling (see field_culling_bounds.h).
 #include "sdfccd/field/field_culling_bounds.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
-#include <mutex>
-#include <vector>
 
 #include "sdfccd/field/cell_gradient_bound.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 
@@ -38,30 +36,7 @@ FieldCullingBounds computeCullingBounds(const SdfGrid& grid) {
     }
   }
   // A hair of slack for the rounding of the interpolation itself.
-  bounds.lipschitz = std::sqrt(worstSq) / grid.spacing() * (1.0 + 1e-9);
-  return bounds;
-}
-
-FieldCullingBounds fieldCullingBounds(const GridField& field) {
-  struct Entry {
-    std::weak_ptr<const SdfGrid> grid;
-    const SdfGrid* key;
-    FieldCullingBounds bounds;
-  };
-  static std::mutex mutex;
-  static std::vector<Entry> cache;
-  const std::shared_ptr<const SdfGrid>& grid = field.gridPtr();
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    cache.erase(std::remove_if(cache.begin(), cache.end(), [](const Entry& e) { return e.grid.expired(); }),
-                cache.end());
-    for (const auto& e : cache) {
-      if (e.key == grid.get()) return e.bounds;
-    }
-  }
-  const FieldCullingBounds bounds = computeCullingBounds(*grid);
-  std::lock_guard<std::mutex> lock(mutex);
-  cache.push_back({grid, grid.get(), bounds});
+  bounds.lipschitz = std::sqrt(worstSq) / grid.spacing() * tolerance::kBoundGrowth;
   return bounds;
 }
 

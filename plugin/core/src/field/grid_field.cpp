@@ -3,16 +3,30 @@
 #include "sdfccd/field/grid_field.h"
 
 #include <cmath>
+#include <mutex>
 
-#include "sdfccd/error.h"
 #include "ccd/segment_walk.h"
+#include "sdfccd/error.h"
 
 namespace sdfccd {
 
-GridField::GridField(std::shared_ptr<const SdfGrid> grid) : m_grid(std::move(grid)) {
+/// The culling bounds, computed once on first use.
+struct GridField::LazyCullingBounds {
+  std::once_flag once;
+  FieldCullingBounds bounds;
+};
+
+GridField::GridField(std::shared_ptr<const SdfGrid> grid)
+    : m_grid(std::move(grid)), m_cullingBounds(std::make_shared<LazyCullingBounds>()) {
   if (!m_grid) throw Error("grid field needs a grid, got none");
   if (m_grid->empty()) throw Error("grid field needs a non-empty grid");
   m_octree = MinDistanceOctree(*m_grid);
+}
+
+const FieldCullingBounds& GridField::cullingBounds() const {
+  LazyCullingBounds& lazy = *m_cullingBounds;
+  std::call_once(lazy.once, [&] { lazy.bounds = computeCullingBounds(*m_grid); });
+  return lazy.bounds;
 }
 
 double GridField::distance(const Vec3& pointInSdf) const {

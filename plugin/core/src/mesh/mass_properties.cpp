@@ -7,6 +7,7 @@
 #include <string>
 
 #include "sdfccd/error.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 
@@ -77,7 +78,8 @@ BodyFrame bodyFrameOf(const MassProperties& inModel) {
   const double offDiagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
   BodyFrame frame;
   frame.modelFromBody.translation() = inModel.centerOfMassInMesh;
-  if (offDiagonal > 1e-9 * inertia.trace()) frame.modelFromBody.linear() = inModel.principalAxesInMesh;
+  if (offDiagonal > tolerance::kPrincipalAxesTolerance * inertia.trace())
+    frame.modelFromBody.linear() = inModel.principalAxesInMesh;
   const Mat3 bodyFromModelRotation = frame.modelFromBody.linear().transpose();
   frame.inertiaInBody = bodyFromModelRotation * inertia * bodyFromModelRotation.transpose();
   return frame;

@@ -38,6 +38,7 @@
 #include "mesh_pseudonormals.h"
 #include "sdfccd/error.h"
 #include "sdfccd/parallel_for.h"
+#include "sdfccd/tolerances.h"
 #include "triangle_bvh.h"
 #include "triangle_distance.h"
 #include "winding_number.h"
@@ -100,7 +101,7 @@ SdfGridLayout computeSdfGridLayout(const Box3& meshBounds, const SdfBuildSetting
     // The longest axis gets exactly `resolution` cells; the others the fewest that cover the mesh. The mesh
     // is centred in the grid.
     const double cellsExact = extent[a] / layout.spacing;
-    long long cells = static_cast<long long>(std::ceil(cellsExact - 1e-9));
+    long long cells = static_cast<long long>(std::ceil(cellsExact - tolerance::kCountRounding));
     cells = std::max(cells, 1LL) + 2LL * settings.padding;
     if (cells + 1 > 65536) throw Error("grid would have more than 65536 nodes along an axis");
     layout.nodeCounts[a] = static_cast<int>(cells + 1);
@@ -512,7 +513,7 @@ void distanceBlock(const Context& ctx, const Block& block, Scratch& s, float* ou
   double centre2 = std::numeric_limits<double>::infinity();
   int centrePosition = -1;
   bvh.closest(centre, centre2, centrePosition);
-  const double bound = (std::sqrt(centre2) + radius) * (1.0 + 1e-12);
+  const double bound = (std::sqrt(centre2) + radius) * tolerance::kSearchRadiusGrowth;
   s.bvhCandidates.clear();
   bvh.collectNearBox(lo, hi, bound, s.bvhCandidates);
   CandidateList& top = s.level[0];

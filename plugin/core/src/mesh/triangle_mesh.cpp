@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "sdfccd/error.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 
@@ -202,7 +203,7 @@ MeshRepairReport repairMesh(TriangleMesh& ioMesh, const MeshRepairSettings& sett
     const Vec3& b = ioMesh.vertices[r[1]];
     const Vec3& c = ioMesh.vertices[r[2]];
     const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    if ((b - a).cross(c - a).norm() <= 1e-12 * longest2) {
+    if ((b - a).cross(c - a).norm() <= tolerance::kCollinearity * longest2) {
       ++report.droppedDegenerate;
       continue;
     }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "sdfccd/error.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 namespace {
@@ -21,7 +22,7 @@ void checkSettings(const AnalyticShellSettings& settings, const char* what) {
 }
 
 int cellsAlong(double length, double spacing) {
-  return std::max(1, static_cast<int>(std::ceil(length / spacing - 1e-9)));
+  return std::max(1, static_cast<int>(std::ceil(length / spacing - tolerance::kCountRounding)));
 }
 
 /// Points of a Fibonacci spiral on the unit sphere; `upperHalfOnly` keeps z >= 0 (count = points there).

@@ -18,6 +18,7 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/parallel_for.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 namespace {
@@ -213,7 +214,7 @@ void addPoint(PointShell& shell, const double v[6], const std::string& where) {
   const Vec3 n(v[3], v[4], v[5]);
   if (!p.allFinite() || !n.allFinite()) throw Error(where + ": non-finite value");
   const double length = n.norm();
-  if (!(length > 1e-12)) throw Error(where + ": zero-length normal");
+  if (!(length > tolerance::kMinDirectionLength)) throw Error(where + ": zero-length normal");
   shell.positions.push_back(p);
   shell.normals.push_back(n / length);
 }
@@ -354,7 +355,7 @@ void PointShell::validate() const {
     if (!positions[n].allFinite() || !normals[n].allFinite()) {
       throw Error("point shell: non-finite point or normal at index " + std::to_string(n));
     }
-    if (std::abs(normals[n].norm() - 1.0) > 1e-6) {
+    if (std::abs(normals[n].norm() - 1.0) > tolerance::kUnitNormalTolerance) {
       throw Error("point shell: normal " + std::to_string(n) + " is not of unit length");
     }
   }

@@ -19,6 +19,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sdfccd/tolerances.h"
+
 namespace sdfccd {
 
 /// g(x) = c0 + c1 x + c2 x^2 + c3 x^3.
@@ -82,13 +84,13 @@ inline double cubicBoundaryRoot(const Cubic& g, double lo, double hi, double gLo
       step = gx / slope;
       x = newton;
     }
-    if (std::abs(step) <= 1e-17 || x == in || x == out) break;
+    if (std::abs(step) <= tolerance::kNewtonMinStep || x == in || x == out) break;
   }
   // Newton converges from one side; step towards `in` by growing amounts until g <= 0, so the returned
   // point is in contact and within a few ulps of the root.
   if (x > std::min(in, out) && x < std::max(in, out) && g(x) <= 0.0) return x;
   const double toIn = in > x ? 1.0 : -1.0;
-  for (double e = 2.5e-16; e < 1e-9; e *= 4.0) {
+  for (double e = tolerance::kRootNudgeFirst; e < tolerance::kRootNudgeLast; e *= 4.0) {
     const double y = x + toIn * e;
     if ((toIn > 0.0 ? y >= in : y <= in)) break;
     if (g(y) <= 0.0) return y;

@@ -42,12 +42,6 @@ class IntervalList {
     }
     ++m_size;
   }
-  /// Total length of the intervals (fraction of the step).
-  double totalLength() const {
-    double sum = 0.0;
-    for (std::size_t n = 0; n < m_size; ++n) sum += (*this)[n].end - (*this)[n].begin;
-    return sum;
-  }
 
  private:
   Interval m_inline[kInline];

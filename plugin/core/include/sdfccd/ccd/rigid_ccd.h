@@ -7,10 +7,13 @@
 /// The tree is traversed breadth-first; a node is culled when its centre's segment does not reach the level
 /// set sigma + L * node radius (first hit, exact roots, is enough for inner nodes). L is the field's gradient
 /// bound (1 for analytic fields, as in the paper; computed from the values for a grid, whose trilinear
-/// interpolant can be steeper, with a guard at the box faces; see field_culling_bounds.h). A node's children
-/// are tested only from the node's first contact on: no point below it touches earlier. Leaves are queried
-/// at sigma with the settings' method/mode/octree, exactly as the linear traversal (useTree = false) queries
-/// every point: the linear traversal is the reference, and both return bit-identical contacts (tested).
+/// interpolant can be steeper, with a guard at the box faces; see field_culling_bounds.h, held by GridField). A node's
+/// children are tested only from the node's first contact on: no point below it touches earlier. Leaves are queried at
+/// sigma with the settings' method/mode/octree, exactly as the linear traversal (useTree = false) queries every point:
+/// the linear traversal is the reference, and both return bit-identical contacts (tested).
+///
+/// The templates below are defined in the library (src/ccd/rigid_ccd.cpp, the traversal in
+/// src/ccd/rigid_ccd_query.h) and instantiated for the five field types of field_interface.h.
 ///
 /// Thread safety: the tree and the field are read-only; any number of queries may run at once, each with its
 /// own RigidCcdResult.
@@ -19,10 +22,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "sdfccd/field/field_culling_bounds.h"
+#include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/field/field_interface.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/shell/point_tree.h"
-#include "sdfccd/ccd/segment_ccd.h"
 
 namespace sdfccd {
 
@@ -89,8 +92,7 @@ struct RigidCcdResult {
   }
 };
 
-/// The query. `Field` is GridField, PlaneField or SphereField (anything with intersectSegment, distance and
-/// gradient as in grid_field.h). `outResult` is cleared first.
+/// The query. `Field` is one of the field types of field_interface.h. `outResult` is cleared first.
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdResult& outResult);
@@ -102,5 +104,3 @@ bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node
                              const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings);
 
 }  // namespace sdfccd
-
-#include "sdfccd/ccd/rigid_ccd_impl.h"

@@ -5,8 +5,9 @@
 /// field's frame), touches the level set S_sigma = {phi = sigma} when phi(p(t)) <= sigma. The query finds the
 /// first such t and, on request, every maximal sub-interval of [0, 1] where phi(p(t)) <= sigma.
 ///
-/// The settings and result types are shared by every field type (GridField, PlaneField, SphereField), so
-/// the point tree and the penalty model are templates over the field and never pay a virtual call.
+/// The settings and result types are shared by every field type (field_interface.h: GridField and the four
+/// analytic fields), so the point tree and the penalty model are templates over the field and never pay a
+/// virtual call.
 ///
 /// Edge-case policy (decided here, pinned by tests):
 /// - Touching counts as contact: phi == sigma is inside the contact set.

@@ -1,7 +1,7 @@
 /// @file
-/// @brief PlaneField, SphereField, BoxField and CapsuleField: closed-form distance fields with GridField's
-/// interface (paper Sections 3 and 5: the ground "phi(p) = p_y"; the box and capsule serve Bullet's convex
-/// shapes, beyond the paper).
+/// @brief PlaneField, SphereField, BoxField and CapsuleField: closed-form distance fields with the field
+/// interface of field_interface.h (paper Sections 3 and 5: the ground "phi(p) = p_y"; the box and capsule serve
+/// Bullet's convex shapes, beyond the paper).
 ///
 /// @details All are exact signed distances (negative inside, 1-Lipschitz), defined everywhere, so the point
 /// tree and the penalty model run against them unchanged and the ground costs no grid. intersectSegment()
@@ -17,8 +17,9 @@
 
 #include <algorithm>
 
-#include "sdfccd/math_types.h"
 #include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/field/field_interface.h"
+#include "sdfccd/math_types.h"
 
 namespace sdfccd {
 
@@ -39,12 +40,6 @@ class PlaneField {
 
   void intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                         SegmentCcdResult& outResult) const;
-  SegmentCcdResult intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
-                                    const SegmentCcdSettings& settings) const {
-    SegmentCcdResult r;
-    intersectSegment(p0InSdf, p1InSdf, settings, r);
-    return r;
-  }
 
  private:
   void intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
@@ -70,12 +65,6 @@ class SphereField {
 
   void intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                         SegmentCcdResult& outResult) const;
-  SegmentCcdResult intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
-                                    const SegmentCcdSettings& settings) const {
-    SegmentCcdResult r;
-    intersectSegment(p0InSdf, p1InSdf, settings, r);
-    return r;
-  }
 
  private:
   void intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
@@ -102,12 +91,6 @@ class BoxField {
 
   void intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                         SegmentCcdResult& outResult) const;
-  SegmentCcdResult intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
-                                    const SegmentCcdSettings& settings) const {
-    SegmentCcdResult r;
-    intersectSegment(p0InSdf, p1InSdf, settings, r);
-    return r;
-  }
 
  private:
   Vec3 m_halfExtents;
@@ -132,12 +115,6 @@ class CapsuleField {
 
   void intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                         SegmentCcdResult& outResult) const;
-  SegmentCcdResult intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
-                                    const SegmentCcdSettings& settings) const {
-    SegmentCcdResult r;
-    intersectSegment(p0InSdf, p1InSdf, settings, r);
-    return r;
-  }
 
  private:
   Vec3 closestOnAxis(const Vec3& pointInSdf) const {

@@ -14,17 +14,17 @@
 /// within rho of the box from outside and boundaryMin - lipschitz * rho <= sigma. With that, the tree
 /// returns exactly the contacts of the point-by-point query (tests pin it on random grids).
 ///
-/// Analytic fields are 1-Lipschitz and unbounded. A field type without an overload gets the paper's
-/// assumption (lipschitz 1, unbounded). The grid bounds are computed once per grid (O(cells)) and cached
-/// by grid (weakly: a destroyed grid's entry is dropped); the cache is thread safe.
+/// Analytic fields are 1-Lipschitz and unbounded: the default bounds (the paper's assumption). A GridField
+/// computes its bounds once, on first use (O(cells)), and holds them (GridField::cullingBounds());
+/// fieldCullingBounds() (field_interface.h) answers for any field type.
 #pragma once
 
-#include "sdfccd/field/analytic_fields.h"
-#include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/sdf_grid.h"
 #include "sdfccd/math_types.h"
 
 namespace sdfccd {
 
+/// The bounds the point tree's culling relies on (see the file comment).
 struct FieldCullingBounds {
   double lipschitz = 1.0;    ///< bound on |grad phi| wherever the segment query sees the field
   bool bounded = false;      ///< true: no contact outside `box`
@@ -32,21 +32,7 @@ struct FieldCullingBounds {
   double boundaryMin = 0.0;  ///< lower bound of phi on the box faces (model units; bounded only)
 };
 
-/// The bounds of a grid (computed in one pass over the cells, not cached).
+/// The bounds of a grid, computed in one pass over its cells (GridField::cullingBounds() holds them).
 FieldCullingBounds computeCullingBounds(const SdfGrid& grid);
-
-/// The bounds of a grid field (cached per grid).
-FieldCullingBounds fieldCullingBounds(const GridField& field);
-inline FieldCullingBounds fieldCullingBounds(const PlaneField&) {
-  return {};
-}
-inline FieldCullingBounds fieldCullingBounds(const SphereField&) {
-  return {};
-}
-/// Any other field type: the paper's assumption (1-Lipschitz, defined everywhere).
-template <class Field>
-FieldCullingBounds fieldCullingBounds(const Field&) {
-  return {};
-}
 
 }  // namespace sdfccd

@@ -2,9 +2,10 @@
 /// @brief GridField: a grid SDF plus its min-distance octree, the field the CCD queries run against.
 ///
 /// @details The octree is built bottom-up from the grid when the field is made (paper Section 3.2); it is
-/// never stored on disk. GridField is immutable after construction and safe to query from many threads.
-/// PlaneField and SphereField (analytic_fields.h) offer the same member functions, so code that takes a
-/// field is a template over its type.
+/// never stored on disk. The culling bounds of the point tree (field_culling_bounds.h) are computed on first
+/// use and held by the field (shared by its copies). GridField is immutable after construction (the lazy
+/// bounds are computed once, under std::call_once) and safe to query from many threads. It provides the
+/// field interface of field_interface.h, as the four analytic fields do.
 ///
 /// intersectSegment works in grid-index coordinates relative to the origin: it clips the segment to the box,
 /// walks the cells with a 3D DDA (grid_walk.h) and, per cell, finds every sub-interval where the cubic of
@@ -18,9 +19,11 @@
 
 #include <memory>
 
+#include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/field/field_culling_bounds.h"
+#include "sdfccd/field/field_interface.h"
 #include "sdfccd/field/min_distance_octree.h"
 #include "sdfccd/field/sdf_grid.h"
-#include "sdfccd/ccd/segment_ccd.h"
 
 namespace sdfccd {
 
@@ -45,19 +48,19 @@ class GridField {
   /// allocation when there are more than IntervalList::kInline intervals.
   void intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                         SegmentCcdResult& outResult) const;
-  SegmentCcdResult intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
-                                    const SegmentCcdSettings& settings) const {
-    SegmentCcdResult r;
-    intersectSegment(p0InSdf, p1InSdf, settings, r);
-    return r;
-  }
+
+  /// The point tree's culling bounds of this grid (computed on the first call, O(cells); thread safe).
+  const FieldCullingBounds& cullingBounds() const;
 
   /// Bytes held by the grid values plus the octree.
   std::size_t memoryBytes() const { return m_grid->memoryBytes() + m_octree.memoryBytes(); }
 
  private:
+  struct LazyCullingBounds;
+
   std::shared_ptr<const SdfGrid> m_grid;
   MinDistanceOctree m_octree;
+  std::shared_ptr<LazyCullingBounds> m_cullingBounds;  // shared by copies: they share the grid
 };
 
 }  // namespace sdfccd

@@ -9,8 +9,13 @@
 /// and their averages F* = I / dt, tau* = M / dt (eq. 5) act over the next step.
 ///
 /// Conventions (decided here):
-/// - d(t) = phi(p(t)) - sigma, with p(t) the point's linear trajectory in the field's frame between
-///   sdfFromShellStart * x and sdfFromShellEnd * x (the same segment the CCD tested). Only d < 0 pushes.
+/// - Frames: the shell body moves as worldFromShellStart -> worldFromShellEnd (its points' frame), the field
+///   body as worldFromSdfStart -> worldFromSdfEnd (the field's frame); contact_query.h runs the CCD and this
+///   model on these same frames.
+/// - d(t) = phi(p(t)) - sigma, with p(t) the point's linear trajectory in the field's frame between its start
+///   and end positions, the segment the CCD tested. The ends are computed through world,
+///   sdfFromWorld * (worldFromShell * x), where the CCD uses (sdfFromWorld * worldFromShell) * x: the same
+///   segment up to rounding (kept so, bit for bit, until the contact-response rebuild). Only d < 0 pushes.
 /// - N(t) is the point's outward normal in world, linearly interpolated between its start and end directions
 ///   and normalized; the force from the depth comes from the shell's normal, not the field's gradient, so it
 ///   stays continuous when a point crosses the field's medial axis (Section 4.1). That force is not
@@ -30,15 +35,11 @@
 ///   step (impulse F dt).
 #pragma once
 
-#include <algorithm>
-#include <cmath>
 #include <cstdint>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
-#include "sdfccd/math_types.h"
 #include "sdfccd/ccd/rigid_ccd.h"
+#include "sdfccd/math_types.h"
 
 namespace sdfccd {
 
@@ -72,21 +73,47 @@ struct PenaltySettings {
   PenaltyDirection direction = PenaltyDirection::ShellNormal;  ///< force direction (see the file comment)
 };
 
-/// The motion of one body during the step. Velocities are linear in t between start and end.
-struct PenaltyBodyMotion {
-  Rigid worldFromBodyStart = Rigid::Identity();
-  Rigid worldFromBodyEnd = Rigid::Identity();
-  Vec3 centerOfMassInBody = Vec3::Zero();    ///< model units
-  Vec3 linearVelocityStart = Vec3::Zero();   ///< velocity of the centre of mass, world (m/s)
-  Vec3 linearVelocityEnd = Vec3::Zero();     ///< m/s
-  Vec3 angularVelocityStart = Vec3::Zero();  ///< world (rad/s)
-  Vec3 angularVelocityEnd = Vec3::Zero();    ///< rad/s
+/// How a body's centre of mass moves during the step: velocities linear in t between start and end.
+struct BodyVelocities {
+  Vec3 linearStart = Vec3::Zero();   ///< velocity of the centre of mass, world (m/s)
+  Vec3 linearEnd = Vec3::Zero();     ///< m/s
+  Vec3 angularStart = Vec3::Zero();  ///< world (rad/s)
+  Vec3 angularEnd = Vec3::Zero();    ///< rad/s
 
-  /// A body that does not move (a static ground, a fixed obstacle).
-  static PenaltyBodyMotion fixed(const Rigid& worldFromBody) {
-    PenaltyBodyMotion m;
-    m.worldFromBodyStart = worldFromBody;
-    m.worldFromBodyEnd = worldFromBody;
+  bool allFinite() const {
+    return linearStart.allFinite() && linearEnd.allFinite() && angularStart.allFinite() && angularEnd.allFinite();
+  }
+};
+
+/// The motion of the shell body during the step, in the frame of its points.
+struct ShellMotion {
+  Rigid worldFromShellStart = Rigid::Identity();
+  Rigid worldFromShellEnd = Rigid::Identity();
+  Vec3 centerOfMassInShell = Vec3::Zero();  ///< model units
+  BodyVelocities velocity;
+
+  /// A shell that does not move.
+  static ShellMotion fixed(const Rigid& worldFromShell) {
+    ShellMotion m;
+    m.worldFromShellStart = worldFromShell;
+    m.worldFromShellEnd = worldFromShell;
+    return m;
+  }
+};
+
+/// The motion of the field body during the step, in the field's frame (a model's field frame need not be its
+/// body frame: centerOfMassInSdf says where the body's centre of mass is).
+struct FieldMotion {
+  Rigid worldFromSdfStart = Rigid::Identity();
+  Rigid worldFromSdfEnd = Rigid::Identity();
+  Vec3 centerOfMassInSdf = Vec3::Zero();  ///< model units
+  BodyVelocities velocity;
+
+  /// A field that does not move (a static ground, a fixed obstacle).
+  static FieldMotion fixed(const Rigid& worldFromSdf) {
+    FieldMotion m;
+    m.worldFromSdfStart = worldFromSdf;
+    m.worldFromSdfEnd = worldFromSdf;
     return m;
   }
 };
@@ -111,147 +138,20 @@ struct PenaltyResult {
   std::int64_t frictionEvaluations = 0;
 };
 
-namespace detail {
-
-/// Precomputed, per contact: the point's trajectory and what interpolates linearly in t.
-struct PenaltyPointPath {
-  Vec3 pointInSdfStart, pointInSdfEnd;        // field frame
-  Vec3 normalInWorldStart, normalInWorldEnd;  // shell's outward normal
-  Vec3 handleShellStart, handleShellEnd;      // world, from the shell body's COM to the point
-  Vec3 handleFieldStart, handleFieldEnd;      // world, from the field body's COM to the point
-  Mat3 worldFromSdfStart, worldFromSdfEnd;    // rotation of the field's frame (FieldGradient direction)
-};
-
-/// True when Field has `Vec3 gradient(const Vec3&) const` (FieldGradient needs it; ShellNormal does not).
-template <class Field, class = void>
-struct HasGradient : std::false_type {};
-template <class Field>
-struct HasGradient<Field, std::void_t<decltype(std::declval<const Field&>().gradient(Vec3()))>> : std::true_type {};
-
-inline Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
-  return a + t * (b - a);
-}
-
-/// Adds the force at fraction t, weighted by `weight` seconds, to `io`. Returns the depth d (model units).
-template <class Field>
-double addPenaltySample(const Field& field, const PenaltyPointPath& path, const PenaltyBodyMotion& shell,
-                        const PenaltyBodyMotion& fieldBody, double t, double weight, const PenaltySettings& settings,
-                        bool useDamping, bool useFriction, PenaltyResult& io) {
-  const double depth = field.distance(lerp(path.pointInSdfStart, path.pointInSdfEnd, t)) - settings.sigma;
-  if (!(depth < 0.0)) return depth;
-  Vec3 normal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
-  if constexpr (HasGradient<Field>::value) {
-    if (settings.direction == PenaltyDirection::FieldGradient) {
-      const Vec3 gradientInSdf = field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
-      const Vec3 away = -lerp(path.worldFromSdfStart * gradientInSdf, path.worldFromSdfEnd * gradientInSdf, t);
-      if (away.allFinite() && away.norm() > 0.0) normal = away;  // else: the shell normal (a flat spot of phi)
-    }
-  }
-  const double normalLength = normal.norm();
-  if (!(normalLength > 0.0)) return depth;  // the normal turned half a turn during the step: no direction
-  normal /= normalLength;
-  ++io.samples;
-  double magnitude = -settings.stiffness * depth;  // N
-  const bool needVelocity = useDamping || useFriction;
-  const bool needHandles = needVelocity || settings.enableRotation;
-  Vec3 handleShell = Vec3::Zero();
-  Vec3 handleField = Vec3::Zero();
-  if (needHandles) {
-    handleShell = lerp(path.handleShellStart, path.handleShellEnd, t);
-    handleField = lerp(path.handleFieldStart, path.handleFieldEnd, t);
-  }
-  Vec3 relativeVelocity = Vec3::Zero();  // of the shell's point relative to the field body's material point
-  if (needVelocity) {
-    const Vec3 velocityShell = lerp(shell.linearVelocityStart, shell.linearVelocityEnd, t) +
-                               lerp(shell.angularVelocityStart, shell.angularVelocityEnd, t).cross(handleShell);
-    const Vec3 velocityField = lerp(fieldBody.linearVelocityStart, fieldBody.linearVelocityEnd, t) +
-                               lerp(fieldBody.angularVelocityStart, fieldBody.angularVelocityEnd, t).cross(handleField);
-    relativeVelocity = velocityShell - velocityField;
-  }
-  if (useDamping) {
-    ++io.dampingEvaluations;
-    const double approachSpeed = relativeVelocity.dot(normal);  // m/s, > 0 approaching
-    magnitude = std::max(0.0, magnitude + settings.damping * approachSpeed);
-  }
-  Vec3 impulseOnField = (weight * magnitude) * normal;
-  if (useFriction) {
-    ++io.frictionEvaluations;
-    // The field body drags the shell's point backwards: on the field, the force follows the slip.
-    const Vec3 slip = relativeVelocity - relativeVelocity.dot(normal) * normal;
-    const double slipSpeed = slip.norm();
-    if (slipSpeed > 0.0) {
-      const double scale = settings.friction * magnitude / std::max(slipSpeed, settings.frictionSlipSpeed);
-      impulseOnField += (weight * scale) * slip;
-    }
-  }
-  io.impulseOnField += impulseOnField;
-  io.impulseOnShell -= impulseOnField;
-  if (settings.enableRotation) {
-    ++io.torqueEvaluations;
-    io.angularImpulseOnField += handleField.cross(impulseOnField);
-    io.angularImpulseOnShell -= handleShell.cross(impulseOnField);
-  }
-  io.maxPenetration = std::max(io.maxPenetration, -depth);
-  return depth;
-}
-
-PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell,
-                                      const PenaltyBodyMotion& shell, const PenaltyBodyMotion& fieldBody);
-
-/// Sets the forces from the impulses (eq. 5). Throws sdfccd::Error if dt is not positive and finite.
-void finishPenaltyResult(double timestep, PenaltyResult& io);
-
-}  // namespace detail
-
 /// Integrates the penalty impulses of one (shell body, field body) pair over a step of `timestep` seconds.
 /// `pointsInShell` are the shell's points (the indices of `ccd.contacts` refer to them); each contact's
 /// `pointNormalInShell` gives its normal. Continuous: uses each contact's intervals (run the CCD with
 /// CcdMode::AllIntervals). Discrete: ignores the intervals and evaluates every listed contact at the end pose
-/// (run the CCD with start = end so that it lists the points inside at the end). `Field` needs
-/// `double distance(const Vec3& pointInSdf) const` (and `Vec3 gradient(const Vec3&) const` for
-/// PenaltyDirection::FieldGradient). Throws sdfccd::Error on a bad timestep or point index.
+/// (run the CCD with start = end so that it lists the points inside at the end). `Field` is one of the field
+/// types of field_interface.h (defined in penalty_model.cpp). Throws sdfccd::Error on a bad timestep, bad
+/// settings or a bad point index. contact_query.h runs the CCD and this on one frame contract.
 template <class Field>
 PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
-                               const PenaltyBodyMotion& shell, const PenaltyBodyMotion& fieldBody, double timestep,
+                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
                                const PenaltySettings& settings);
 
+/// The checks of integratePenalty (throws sdfccd::Error).
 void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,
                        const PenaltySettings& settings);
-
-template <class Field>
-PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
-                               const PenaltyBodyMotion& shell, const PenaltyBodyMotion& fieldBody, double timestep,
-                               const PenaltySettings& settings) {
-  checkPenaltyInput(pointsInShell.size(), ccd, timestep, settings);
-  PenaltyResult result;
-  const bool useDamping = settings.enableDamping && settings.damping > 0.0;
-  const bool useFriction = settings.enableFriction && settings.friction > 0.0;
-  const int pieces = std::max(1, settings.subintervals);
-  for (const PointContact& contact : ccd.contacts) {
-    const detail::PenaltyPointPath path = detail::makePenaltyPointPath(
-        pointsInShell[static_cast<std::size_t>(contact.point)], contact.pointNormalInShell, shell, fieldBody);
-    bool pushed = false;
-    if (settings.model == PenaltyModel::Discrete) {
-      pushed = detail::addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, useDamping, useFriction,
-                                        result) < 0.0;
-    } else {
-      for (std::size_t i = 0; i < contact.intervals.size(); ++i) {
-        const Interval& interval = contact.intervals[i];
-        const double width = (interval.end - interval.begin) / pieces;
-        if (!(width > 0.0)) continue;  // a touching instant carries no impulse
-        for (int j = 0; j < pieces; ++j) {
-          const double t = interval.begin + (j + 0.5) * width;
-          if (detail::addPenaltySample(field, path, shell, fieldBody, t, width * timestep, settings, useDamping,
-                                       useFriction, result) < 0.0) {
-            pushed = true;
-          }
-        }
-      }
-    }
-    if (pushed) ++result.contactCount;
-  }
-  detail::finishPenaltyResult(timestep, result);
-  return result;
-}
 
 }  // namespace sdfccd

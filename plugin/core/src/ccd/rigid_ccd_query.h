@@ -1,5 +1,6 @@
 /// @file
-/// @brief The template definitions of rigid_ccd.h (paper Section 3.3). Included by rigid_ccd.h only.
+/// @brief detail::RigidCcdQuery: the traversal behind rigidCcd() (paper Section 3.3; see rigid_ccd.h). Private
+/// to the core: rigid_ccd.cpp instantiates it for the field types (field_interface.h).
 ///
 /// @details One traversal routine serves the serial and the threaded query. Per call, the two poses are
 /// split into rotation and translation once; the frontiers and the segment scratch are thread_local and
@@ -12,9 +13,11 @@
 #include <cmath>
 #include <vector>
 
-#include "sdfccd/error.h"
-#include "sdfccd/parallel_for.h"
 #include "sdfccd/ccd/rigid_ccd.h"
+#include "sdfccd/error.h"
+#include "sdfccd/field/field_interface.h"
+#include "sdfccd/parallel_for.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 namespace detail {
@@ -60,9 +63,6 @@ inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box, doubl
   outEnter = t0;
   return true;
 }
-
-/// Margin on fractions of the step where a search is cut short, against rounding of the shorter walk.
-constexpr double kFractionSlack = 1e-9;
 
 template <class Field>
 class RigidCcdQuery {
@@ -115,11 +115,11 @@ class RigidCcdQuery {
     const Vec3 c0 = tStart > 0.0 ? Vec3(cStart + tStart * (c1 - cStart)) : cStart;
     const double rho = m_tree.radius(node);
     // Slack against rounding: the points' segments are computed with different roundings than the centre's.
-    const double reach = m_bounds.lipschitz * rho * (1.0 + 1e-9);
+    const double reach = m_bounds.lipschitz * rho * tolerance::kBoundGrowth;
     const double sigmaNode = m_settings.sigma + reach;
     // The part of [c0, c1] up to tLimit, as a fraction of [c0, c1] (with a margin against rounding).
     const double reachFraction =
-        tLimit >= 1.0 ? 1.0 : std::min(1.0, (tLimit - tStart) / (1.0 - tStart) + kFractionSlack);
+        tLimit >= 1.0 ? 1.0 : std::min(1.0, (tLimit - tStart) / (1.0 - tStart) + tolerance::kFractionSlack);
     if (m_bounds.bounded) {
       const Box3 grown(m_bounds.box.min() - Vec3::Constant(rho), m_bounds.box.max() + Vec3::Constant(rho));
       double enter = 0.0;
@@ -129,7 +129,7 @@ class RigidCcdQuery {
         // The centre passes outside the box near a face low enough to touch: keep (conservative), but no point
         // below touches before the centre comes within rho of the box.
         if (enter > reachFraction) return false;
-        outFirst = std::max(tStart, tStart + enter * (1.0 - tStart) - 1e-9);
+        outFirst = std::max(tStart, tStart + enter * (1.0 - tStart) - tolerance::kFractionSlack);
         return true;
       }
     }
@@ -137,7 +137,7 @@ class RigidCcdQuery {
     // phi(c0) - lipschitz * |c1 - c0|, on the part inside the box when c0 is (the box is convex).
     if (!m_bounds.bounded || m_bounds.box.contains(c0)) {
       const double lowest =
-          m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * reachFraction * (1.0 + 1e-9);
+          m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * reachFraction * tolerance::kBoundGrowth;
       if (lowest > sigmaNode) return false;
     }
     SegmentCcdSettings nodeSettings = m_node;
@@ -148,7 +148,7 @@ class RigidCcdQuery {
     if (!scratch.hit()) return false;
     // Before the centre first reaches sigma + lipschitz * rho, no point below touches (the box-margin case
     // returned above). The margin keeps rounding on the safe side.
-    outFirst = std::max(tStart, tStart + scratch.fraction * (1.0 - tStart) - 1e-9);
+    outFirst = std::max(tStart, tStart + scratch.fraction * (1.0 - tStart) - tolerance::kFractionSlack);
     return true;
   }
 
@@ -159,7 +159,7 @@ class RigidCcdQuery {
     SegmentCcdSettings settings = m_leaf;
     settings.mode = CcdMode::FirstHit;
     settings.method = CcdMethod::Exact;
-    settings.maxFraction = std::min(1.0, tLimit + kFractionSlack);
+    settings.maxFraction = std::min(1.0, tLimit + tolerance::kFractionSlack);
     ++stats.segmentQueries;
     m_field.intersectSegment(startOf(x), endOf(x), settings, scratch);
     return scratch.hit();
@@ -249,7 +249,7 @@ class RigidCcdQuery {
       stack.pop_back();
       const Vec3 c0 = startOf(m_tree.center(node));
       const double rho = m_tree.radius(node);
-      const double reach = m_bounds.lipschitz * rho * (1.0 + 1e-9);
+      const double reach = m_bounds.lipschitz * rho * tolerance::kBoundGrowth;
       if (m_bounds.bounded && !m_bounds.box.contains(c0)) {
         // Points below lie within rho of c0; inside the box phi >= boundaryMin - L rho there.
         const Vec3 nearest = c0.cwiseMax(m_bounds.box.min()).cwiseMin(m_bounds.box.max());
@@ -283,9 +283,9 @@ class RigidCcdQuery {
   }
 
   /// earliestOnly, serial. Tree: depth-first branch and bound on the nodes' lower bounds (the fraction before
-  /// which no point below touches); a node whose bound exceeds the best contact found is pruned. Leaves run the same point query as the linear traversal, so the
-  /// fraction is bit-identical to the minimum over the linear contacts. Ties (bound == best) are kept, so
-  /// every point at the earliest fraction is returned.
+  /// which no point below touches); a node whose bound exceeds the best contact found is pruned. Leaves run the same
+  /// point query as the linear traversal, so the fraction is bit-identical to the minimum over the linear contacts.
+  /// Ties (bound == best) are kept, so every point at the earliest fraction is returned.
   void runEarliest(RigidCcdResult& out) const {
     RigidCcdScratch& scratch = rigidCcdScratch();
     std::vector<PointContact> candidate;
@@ -410,30 +410,4 @@ class RigidCcdQuery {
 };
 
 }  // namespace detail
-
-template <class Field>
-void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
-              const RigidCcdSettings& settings, RigidCcdResult& outResult) {
-  outResult.clear();
-  if (tree.nodeCount() == 0) return;
-  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
-  query.run(outResult);
-}
-
-template <class Field>
-bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node, const Rigid& sdfFromShellStart,
-                             const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings) {
-  if (node < 0 || node >= tree.nodeCount()) throw Error("pointTreeNodeMayCollide: node out of range");
-  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
-  SegmentCcdResult scratch;
-  RigidCcdStats stats;
-  if (tree.isLeaf(node)) {
-    std::vector<PointContact> contacts;
-    query.queryPoint(tree.point(node), scratch, contacts, stats);
-    return !contacts.empty();
-  }
-  double first = 0.0;
-  return query.nodeMayCollide(node, 0.0, scratch, stats, first);
-}
-
 }  // namespace sdfccd

@@ -1,0 +1,45 @@
+/// @file
+/// @brief rigidCcd() and pointTreeNodeMayCollide() (paper Section 3.3; see rigid_ccd.h), instantiated for every
+/// field type of field_interface.h (as FCL does: the public header declares, this file defines).
+#include "sdfccd/ccd/rigid_ccd.h"
+
+#include "ccd/rigid_ccd_query.h"
+#include "sdfccd/field/analytic_fields.h"
+#include "sdfccd/field/grid_field.h"
+
+namespace sdfccd {
+
+template <class Field>
+void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
+              const RigidCcdSettings& settings, RigidCcdResult& outResult) {
+  outResult.clear();
+  if (tree.nodeCount() == 0) return;
+  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
+  query.run(outResult);
+}
+
+template <class Field>
+bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node, const Rigid& sdfFromShellStart,
+                             const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings) {
+  if (node < 0 || node >= tree.nodeCount()) throw Error("pointTreeNodeMayCollide: node out of range");
+  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
+  SegmentCcdResult scratch;
+  RigidCcdStats stats;
+  if (tree.isLeaf(node)) {
+    std::vector<PointContact> contacts;
+    query.queryPoint(tree.point(node), scratch, contacts, stats);
+    return !contacts.empty();
+  }
+  double first = 0.0;
+  return query.nodeMayCollide(node, 0.0, scratch, stats, first);
+}
+
+#define SDFCCD_INSTANTIATE_RIGID_CCD(Field)                                                                          \
+  template void rigidCcd<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&, const RigidCcdSettings&, \
+                                RigidCcdResult&);                                                                    \
+  template bool pointTreeNodeMayCollide<Field>(const PointTree&, const Field&, int, const Rigid&, const Rigid&,      \
+                                               const RigidCcdSettings&);
+SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_RIGID_CCD)
+#undef SDFCCD_INSTANTIATE_RIGID_CCD
+
+}  // namespace sdfccd

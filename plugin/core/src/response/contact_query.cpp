@@ -1,0 +1,55 @@
+/// @file
+/// @brief queryContacts(): the rigid CCD and the penalty model on one frame contract (Sections 3.3 and 4.1; see
+/// contact_query.h), instantiated for every field type of field_interface.h.
+#include "sdfccd/response/contact_query.h"
+
+#include "sdfccd/field/analytic_fields.h"
+#include "sdfccd/field/grid_field.h"
+
+namespace sdfccd {
+
+template <class Field>
+void queryContacts(const PointTree& shellTree, const Field& field, const ShellMotion& shell,
+                   const FieldMotion& fieldBody, double timestep, const ContactQuerySettings& settings,
+                   ContactQueryResult& outResult, const ContactQueryClocks& clocks) {
+  outResult.sdfFromShellStart = fieldBody.worldFromSdfStart.inverse() * shell.worldFromShellStart;
+  outResult.sdfFromShellEnd = fieldBody.worldFromSdfEnd.inverse() * shell.worldFromShellEnd;
+  outResult.penalty = PenaltyResult{};
+  outResult.penaltyIntegrated = false;
+  outResult.ccdSeconds = 0.0;
+  outResult.penaltySeconds = 0.0;
+
+  const bool discrete = settings.penalty.model == PenaltyModel::Discrete;
+  RigidCcdSettings ccd;
+  ccd.sigma = settings.penalty.sigma;
+  ccd.mode = discrete ? settings.discreteMode : CcdMode::AllIntervals;
+  ccd.method = settings.method;
+  ccd.octree = settings.octree;
+  ccd.useTree = settings.useTree;
+  ccd.threads = settings.threads;
+  const double ccdStart = clocks.ccd ? clocks.ccd() : 0.0;
+  // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
+  rigidCcd(shellTree, field, discrete ? outResult.sdfFromShellEnd : outResult.sdfFromShellStart,
+           outResult.sdfFromShellEnd, ccd, outResult.ccd);
+  if (clocks.ccd) outResult.ccdSeconds = clocks.ccd() - ccdStart;
+
+  if (!settings.integratePenalty) return;
+  const std::vector<Vec3>& pointsInShell = shellTree.shell().positions;
+  if (outResult.ccd.contacts.empty()) {
+    checkPenaltyInput(pointsInShell.size(), outResult.ccd, timestep, settings.penalty);
+    return;
+  }
+  const double penaltyStart = clocks.penalty ? clocks.penalty() : 0.0;
+  outResult.penalty =
+      integratePenalty(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep, settings.penalty);
+  outResult.penaltyIntegrated = true;
+  if (clocks.penalty) outResult.penaltySeconds = clocks.penalty() - penaltyStart;
+}
+
+#define SDFCCD_INSTANTIATE_CONTACT_QUERY(Field)                                                                      \
+  template void queryContacts<Field>(const PointTree&, const Field&, const ShellMotion&, const FieldMotion&, double, \
+                                     const ContactQuerySettings&, ContactQueryResult&, const ContactQueryClocks&);
+SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_CONTACT_QUERY)
+#undef SDFCCD_INSTANTIATE_CONTACT_QUERY
+
+}  // namespace sdfccd
