@@ -15,7 +15,7 @@
 ///    discrete model at the end pose.
 /// 2. The impulses I and M reach the velocities as impulses (eq. 5: the averaged force F* = I/dt acting over
 ///    a step is the impulse F* dt; forces applied with applyCentralForce would accumulate over substeps
-///    until clearForces). When, is a setting (SdfccdForceTiming): the paper's "over the next step" (in
+///    until clearForces). When, is a setting (ForceTiming): the paper's "over the next step" (in
 ///    updateAction: this object is a btActionInterface, run after integrateTransforms), or at once in the
 ///    narrowphase, before Bullet integrates the same step (the default: stable at stiffer settings).
 /// 3. Time-of-impact clamping (beyond the paper): averaged penalty forces act one step late and cannot stop a
@@ -45,10 +45,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/response/force_timing.h"
 #include "sdfccd/response/penalty_model.h"
 #include "sdfccd/shell/point_tree.h"
-#include "sdfccd/ccd/rigid_ccd.h"
 
 class btCollisionDispatcher;
 class btCollisionObject;
@@ -64,21 +65,13 @@ namespace sdfccd {
 
 class SdfccdShape;
 
-/// When the step's penalty impulses reach the velocities.
-enum class SdfccdForceTiming : std::uint8_t {
-  /// Paper, Section 4.1 literally: I and M from the step's motion act over the *next* step (applied after
-  /// integrateTransforms). The force lags the motion by half a step on average, which feeds energy into a
-  /// stiff contact (for a linear spring the amplification per step is sqrt(1 + (omega dt)^2 / 2)); damping
-  /// must absorb it.
-  NextStep,
-  /// Predictive: I and M are integrated over the step's predicted motion and applied at once, before
-  /// Bullet integrates the step (a semi-implicit step: dissipative, stable for omega dt < 2).
-  SameStep,
-};
+/// The contact system's name of ForceTiming (sdfccd/response/force_timing.h), kept while
+/// sdfccd_contact_system.cpp still spells it so.
+using SdfccdForceTiming = ForceTiming;
 
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
-  SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< see SdfccdForceTiming
+  ForceTiming forceTiming = ForceTiming::SameStep;  ///< see ForceTiming
   PenaltySettings penalty;               ///< model (continuous/discrete), stiffness, damping, subintervals, flags
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)
@@ -125,7 +118,7 @@ struct SdfccdContactStatistics {
   /// processPair calls skipped because a body's pose, velocity or motion was NaN or infinite: such a body
   /// gets no contact, so nothing non-finite reaches the other body (SceneWorld rejects it before the step).
   std::int64_t nonFinitePairs = 0;
-  double maxPenetrationCells = 0.0;   ///< largest penetration seen (cells)
+  double maxPenetrationCells = 0.0;  ///< largest penetration seen (cells)
   // Work counters: what each effect cost (zero when a scene does not ask for the effect).
   std::int64_t groundCcdQueries = 0;     ///< rigid CCD queries against static planes (the "ground" effect)
   std::int64_t penaltySamples = 0;       ///< penalty force samples in contact (PenaltyResult::samples)
