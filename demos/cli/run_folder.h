@@ -47,15 +47,12 @@ struct RunBody {
   Rigid worldFromBody = Rigid::Identity();   ///< the pose at the start (m)
 };
 
-/// The camera a scene file asks for (its "camera" key).
-using RunCamera = SceneCamera;
-
 /// What the renderer needs from a scene file.
 struct RunScene {
   std::string path;  ///< the scene file read
   std::vector<RunBody> bodies;
   std::optional<double> groundHeight;  ///< y of the ground plane (m), when the scene has a ground
-  std::optional<RunCamera> camera;
+  std::optional<SceneCamera> camera;
 };
 
 /// Per-frame data of a run.

@@ -9,7 +9,6 @@
 #include <string>
 
 #include "sdfccd/error.h"
-#include "sdfccd/field/sdf_file.h"
 #include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "sdfccd/mesh/sdf_builder.h"
