@@ -10,15 +10,6 @@
 #include "sdfccd/error.h"
 
 namespace sdfccd::detail {
-namespace {
-
-std::string numberText(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-}  // namespace
 
 std::optional<std::string> findSceneFile(const std::string& given, const SceneFileSearch& search) {
   namespace fs = std::filesystem;
@@ -52,6 +43,12 @@ std::string readSceneText(const std::string& path) {
 
 void JsonReader::fail(const std::string& where, const std::string& what) const {
   throw Error("scene '" + m_scene + "': " + where + (where.empty() ? "" : " ") + what);
+}
+
+std::string JsonReader::numberText(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
 std::string JsonReader::join(const std::string& where, const std::string& key) {

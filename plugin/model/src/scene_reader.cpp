@@ -3,7 +3,6 @@
 /// (detail/json_reader.h).
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
 #include "sdfccd/error.h"
 #include "sdfccd/model/detail/json_reader.h"
@@ -14,12 +13,6 @@ namespace {
 
 using detail::Json;
 using Reader = detail::JsonReader;
-
-std::string numberText(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 ScenePrimitive readPrimitive(const Reader& r, const Json& j, const std::string& where) {
   r.checkObject(j, where);
@@ -57,9 +50,10 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   if (b.sdf.empty() != b.shell.empty()) r.fail(where, "\"sdf\" and \"shell\" go together");
   if (!b.sdf.empty() && b.mesh.empty()) r.fail(where, "\"sdf\" and \"shell\" need a \"mesh\"");
   b.scale = r.number(j, "scale", where, 1.0);
-  if (!(b.scale > 0)) r.fail(Reader::join(where, "scale"), "must be > 0 (got " + numberText(b.scale) + ")");
+  if (!(b.scale > 0)) r.fail(Reader::join(where, "scale"), "must be > 0 (got " + Reader::numberText(b.scale) + ")");
   b.mass = r.number(j, "mass", where, 1.0, !b.isStatic);
-  if (!b.isStatic && !(b.mass > 0)) r.fail(Reader::join(where, "mass"), "must be > 0 (got " + numberText(b.mass) + ")");
+  if (!b.isStatic && !(b.mass > 0))
+    r.fail(Reader::join(where, "mass"), "must be > 0 (got " + Reader::numberText(b.mass) + ")");
   b.position = r.vec3(j, "position", where, Vec3::Zero());
   if (j.contains("orientation")) b.orientation = r.unitQuaternion(j, "orientation", where);
   b.velocity = r.vec3(j, "velocity", where, Vec3::Zero());
@@ -91,7 +85,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   (void)r.string(root, "description", "");
   s.timestep = r.number(root, "timestep", "", s.timestep);
   if (!(s.timestep > 0) || s.timestep > 1.0)
-    r.fail("timestep", "must be in (0, 1] s (got " + numberText(s.timestep) + ")");
+    r.fail("timestep", "must be in (0, 1] s (got " + Reader::numberText(s.timestep) + ")");
   s.frames = r.integer(root, "frames", "", s.frames, 1, 100000000);
   s.gravity = r.vec3(root, "gravity", "", s.gravity);
   s.sleeping = r.boolean(root, "sleeping", "", s.sleeping);
@@ -128,7 +122,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     camera.up = r.vec3(cam, "up", "camera", camera.up);
     camera.fovDegrees = r.number(cam, "fov", "camera", camera.fovDegrees);
     if (!(camera.fovDegrees > 0.0 && camera.fovDegrees < 180.0)) {
-      r.fail("camera.fov", "must be in (0, 180) degrees (got " + numberText(camera.fovDegrees) + ")");
+      r.fail("camera.fov", "must be in (0, 180) degrees (got " + Reader::numberText(camera.fovDegrees) + ")");
     }
     s.camera = camera;
   }

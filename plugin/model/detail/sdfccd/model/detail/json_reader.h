@@ -48,6 +48,8 @@ class JsonReader {
   [[noreturn]] void fail(const std::string& where, const std::string& what) const;
   /// "where.key", or "key" at the top level.
   static std::string join(const std::string& where, const std::string& key);
+  /// A number as errors quote it ("(got -1)").
+  static std::string numberText(double v);
 
   /// Parses JSON text that must hold an object. Fails on bad JSON (including numbers out of range, 1e999).
   Json parseObject(const std::string& text) const;
