@@ -6,12 +6,12 @@
 
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <sstream>
 
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
-#include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/fnv1a.h"
+#include "sdfccd/model/scene_models.h"
 
 namespace sdfccd {
 
@@ -44,33 +44,6 @@ Vec3 toVec3(const btVector3& v) {
 }
 btVector3 toBt(const Vec3& v) {
   return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
-}
-
-TriangleMesh primitiveMesh(const ScenePrimitive& p) {
-  if (p.type == "box") return makeBox(p.halfExtents);
-  if (p.type == "sphere") return makeIcosphere(p.radius, p.subdivisions);
-  if (p.type == "cylinder") return makeCylinder(p.radius, p.height);
-  LathedBowlSettings bowl;
-  const double factor = p.radius / bowl.rimRadius;
-  bowl.rimRadius = p.radius;
-  bowl.height = p.height;
-  bowl.wall *= factor;
-  bowl.footRadius *= factor;
-  bowl.footHeight *= factor;
-  return makeLathedBowl(bowl);
-}
-
-std::string modelKey(const SceneBody& b) {
-  std::ostringstream key;
-  key.precision(17);
-  key << b.mesh << "|" << b.sdf << "|" << b.shell << "|" << b.scale << "|" << b.points << "|" << b.resolution << "|"
-      << b.padding;
-  if (b.primitive) {
-    const ScenePrimitive& p = *b.primitive;
-    key << "|" << p.type << " " << p.halfExtents.transpose() << " " << p.radius << " " << p.height << " "
-        << p.subdivisions;
-  }
-  return key.str();
 }
 
 std::string vectorText(const Vec3& v) {
@@ -140,7 +113,7 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
   return s;
 }
 
-std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& b, const SdfccdBodyModel& model,
+std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& b, const BodyModel& model,
                                                 btCollisionShape* shape, bool maySleep) {
   const Rigid worldFromBody = worldFromBodyAt(model.modelFromBody(), b.position, b.orientation);
   const Quat q(worldFromBody.linear());
@@ -181,33 +154,11 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   checkSceneState(m_scene);
 
   // Models: one per distinct mesh + parameters.
-  std::map<std::string, std::shared_ptr<const SdfccdBodyModel>> shared;
-  std::size_t built = 0;
-  for (const SceneBody& b : m_scene.bodies) {
-    const std::string key = modelKey(b);
-    auto found = shared.find(key);
-    if (found == shared.end()) {
-      SdfccdBodyModelSettings ms;
-      ms.resolution = b.resolution;
-      ms.padding = b.padding;
-      ms.points = b.points;
-      ms.scale = b.scale;
-      ms.threads = settings.threads;
-      ms.cacheDir = settings.cacheDir;
-      std::shared_ptr<const SdfccdBodyModel> model;
-      if (b.primitive) {
-        model = SdfccdBodyModel::buildFromMesh(primitiveMesh(*b.primitive), ms);
-      } else if (!b.sdf.empty()) {
-        model = SdfccdBodyModel::loadFromFiles(b.mesh, b.sdf, b.shell, ms);
-      } else {
-        model = SdfccdBodyModel::buildFromMeshFile(b.mesh, ms);
-      }
-      found = shared.emplace(key, model).first;
-    }
-    m_models.push_back(found->second);
-    ++built;
-    if (settings.buildProgress) settings.buildProgress(double(built) / double(m_scene.bodies.size()));
-  }
+  SceneModelSettings modelSettings;
+  modelSettings.cacheDir = settings.cacheDir;
+  modelSettings.threads = settings.threads;
+  modelSettings.progress = settings.buildProgress;
+  m_models = buildSceneModels(m_scene, modelSettings);
 
   m_bullet = std::make_unique<SceneWorldBullet>();
   m_world = &m_bullet->world;
@@ -226,7 +177,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   }
   for (std::size_t i = 0; i < m_scene.bodies.size(); ++i) {
     const SceneBody& b = m_scene.bodies[i];
-    const SdfccdBodyModel& model = *m_models[i];
+    const BodyModel& model = *m_models[i];
     auto shape = std::make_unique<SdfccdShape>(m_models[i]);
     auto body = makeSceneRigidBody(m_scene, b, model, shape.get(), settings.allowSleeping);
     m_world->addRigidBody(body.get());
@@ -366,7 +317,7 @@ std::uint64_t SceneWorld::stateHash() const {
                                  b.getAngularVelocity().z()};
     bytes.append(reinterpret_cast<const char*>(values), sizeof values);
   }
-  return fnv1a64(bytes);
+  return fnv1a(bytes);
 }
 
 }  // namespace sdfccd

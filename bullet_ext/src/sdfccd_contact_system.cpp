@@ -185,7 +185,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
     if (isSdfccdShape(fieldShape)) {
-      const SdfccdBodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
+      const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
       role.shellTree = isSdfccdShape(shellShape) ? &static_cast<const SdfccdShape*>(shellShape)->model().tree()
                                                  : &convexShellTree(shellShape, fieldModel.cellSize());
@@ -194,7 +194,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
       return;
     }
     // An analytic field: depths are reported in cells of the shell body's own field.
-    const SdfccdBodyModel& shellModel = static_cast<const SdfccdShape*>(shellShape)->model();
+    const BodyModel& shellModel = static_cast<const SdfccdShape*>(shellShape)->model();
     role.shellTree = &shellModel.tree();
     const double shellCell = shellModel.cellSize();
     if (isPlane(fieldShape)) {
@@ -375,7 +375,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       record.penalty.maxPenetration = deepest;
     }
   }
-  if (m_settings.forceTiming == SdfccdForceTiming::SameStep && !record.clamp) {
+  if (m_settings.forceTiming == ForceTiming::SameStep && !record.clamp) {
     applyPenaltyImpulses(record);
     record.applied = true;
   }

@@ -10,7 +10,7 @@
 
 namespace sdfccd {
 
-SdfccdShape::SdfccdShape(std::shared_ptr<const SdfccdBodyModel> model) : m_model(std::move(model)) {
+SdfccdShape::SdfccdShape(std::shared_ptr<const BodyModel> model) : m_model(std::move(model)) {
   if (!m_model) throw Error("SdfccdShape: the body model is null");
   m_shapeType = CUSTOM_CONCAVE_SHAPE_TYPE;
   const Box3& box = m_model->boundsInBody();

@@ -120,7 +120,7 @@ void printTrials(const char* name, const StabilitySearch& search, bool byStiffne
     std::printf("  %-10s dt %.4f s, k %8.1f: %-8s max penetration %7.2f cells %s\n", name, t.timestep, t.stiffness,
                 t.stable ? "stable" : "UNSTABLE", t.maxPenetrationCells, t.why.c_str());
     const std::string item = std::string(name) + (byStiffness ? "_softened@k" + std::to_string(t.stiffness)
-                                                               : "@" + std::to_string(t.timestep));
+                                                              : "@" + std::to_string(t.timestep));
     csvRow("fig10a", item, "stable", t.stable ? 1 : 0);
     csvRow("fig10a", item, "max_penetration_cells", t.maxPenetrationCells);
   }
@@ -134,7 +134,7 @@ void runFig10a(const BenchBulletOptions& o) {
   trial.stiffness = base.contact.stiffness;
   trial.duration = o.quick ? 0.8 : 1.5;
   trial.cacheDir = o.cache;
-  trial.forceTiming = o.forceTiming == "same_step" ? SdfccdForceTiming::SameStep : SdfccdForceTiming::NextStep;
+  trial.forceTiming = o.forceTiming == "same_step" ? ForceTiming::SameStep : ForceTiming::NextStep;
   const std::vector<double> timesteps =
       o.quick ? std::vector<double>{0.001, 0.002, 0.003, 0.004}
               : std::vector<double>{0.0005, 0.001, 0.0015, 0.002, 0.0025, 0.003, 0.004, 0.005, 0.006};
@@ -184,7 +184,7 @@ void runPeer(const BenchBulletOptions& o) {
   SceneWorldSettings settings;
   settings.cacheDir = o.cache;  // sleeping as the scene says, in both worlds
   SceneWorld ours(scene, settings);
-  std::vector<std::shared_ptr<const SdfccdBodyModel>> models;
+  std::vector<std::shared_ptr<const BodyModel>> models;
   std::vector<bool> isStatic;
   for (int i = 0; i < ours.bodyCount(); ++i) {
     models.push_back(ours.modelPtr(i));

@@ -22,10 +22,6 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
-#if __has_include("sdfccd/io/mesh_loader.h")
-#include "sdfccd/io/mesh_loader.h"
-#define SDFCCD_HAPTICS_HAS_IO 1
-#endif
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"
@@ -33,14 +29,6 @@
 
 namespace sdfccd::cli {
 namespace {
-
-haptics::MeshLoader sceneMeshLoader() {
-#ifdef SDFCCD_HAPTICS_HAS_IO
-  return [](const std::string& path) { return loadMesh(path); };
-#else
-  return {};
-#endif
-}
 
 struct BenchHapticsOptions {
   bool quick = false;
@@ -112,7 +100,6 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
   std::vector<Row> rows;
   for (const std::string& sceneName : scenes) {
     haptics::HapticSceneLoadSettings load;
-    load.meshLoader = sceneMeshLoader();
     load.cacheDir = o.cache;
     haptics::HapticScene scene = haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json", load);
     for (const int n : counts) {

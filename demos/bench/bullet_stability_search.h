@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/bullet/scene.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/model/scene.h"
 
 namespace sdfccd::cli {
 
@@ -31,7 +31,7 @@ struct StabilityTrialSettings {
   double stiffness = 10000.0;  ///< N/m per point
   double duration = 1.0;       ///< simulated time (s)
   std::string cacheDir;        ///< body model cache ("" = none)
-  SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;
+  ForceTiming forceTiming = ForceTiming::SameStep;
 };
 
 /// The outcome of one trial.

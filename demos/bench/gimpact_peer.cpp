@@ -29,7 +29,7 @@ struct GImpactPeerBullet {
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
-  std::map<const SdfccdBodyModel*, std::unique_ptr<GImpactPeerMesh>> meshes;
+  std::map<const BodyModel*, std::unique_ptr<GImpactPeerMesh>> meshes;
   std::unique_ptr<btStaticPlaneShape> groundShape;
   std::vector<std::unique_ptr<btRigidBody>> statics;
   std::vector<std::unique_ptr<btRigidBody>> bodies;  // one per scene body, in scene order
@@ -61,7 +61,7 @@ std::unique_ptr<GImpactPeerMesh> makeMesh(const TriangleMesh& meshInBody) {
 
 }  // namespace
 
-GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const SdfccdBodyModel>>& models)
+GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const BodyModel>>& models)
     : m_bullet(std::make_unique<GImpactPeerBullet>()), m_timestep(scene.timestep) {
   if (models.size() != scene.bodies.size()) throw Error("GImpactPeer: one model per scene body is needed");
   btGImpactCollisionAlgorithm::registerAlgorithm(&m_bullet->dispatcher);
@@ -75,7 +75,7 @@ GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<c
   }
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const SceneBody& b = scene.bodies[i];
-    const SdfccdBodyModel& model = *models[i];
+    const BodyModel& model = *models[i];
     auto& mesh = m_bullet->meshes[&model];
     if (!mesh) mesh = makeMesh(model.meshInBody());
     auto body = makeSceneRigidBody(scene, b, model, mesh->shape.get(), true);  // sleeping as the scene says

@@ -3,7 +3,7 @@
 /// btGImpactMeshShape — the peer of our plugin in `sdfccd bench bullet --part peer` (the 20-bunny drop, paper
 /// Fig. 10a; the paper has no such comparison).
 ///
-/// @details The same bodies as SceneWorld: each body's mesh in its body frame (SdfccdBodyModel::meshInBody,
+/// @details The same bodies as SceneWorld: each body's mesh in its body frame (BodyModel::meshInBody,
 /// the triangles GImpact collides) in a rigid body made by makeSceneRigidBody (scene_world.h), as SceneWorld
 /// makes its own — the same masses and inertia (from the mesh's volume, not GImpact's vertex-spread
 /// estimate), start poses, velocities and sleeping policy —, the same gravity, the same ground (a
@@ -17,9 +17,9 @@
 #include <memory>
 #include <vector>
 
-#include "sdfccd/bullet/scene.h"
-#include "sdfccd/bullet/sdfccd_body_model.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/model/body_model.h"
+#include "sdfccd/model/scene.h"
 
 namespace sdfccd::cli {
 
@@ -27,7 +27,7 @@ class GImpactPeer {
  public:
   /// `models[i]` is the model of scene.bodies[i] (e.g. SceneWorld::model(i)): its mesh in the body frame and
   /// its mass properties are used. Throws sdfccd::Error if the counts differ.
-  GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const SdfccdBodyModel>>& models);
+  GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const BodyModel>>& models);
   ~GImpactPeer();
   GImpactPeer(const GImpactPeer&) = delete;
   GImpactPeer& operator=(const GImpactPeer&) = delete;

@@ -10,8 +10,8 @@
 
 namespace sdfccd::cli {
 
-PenetrationProbe::PenetrationProbe(std::vector<std::shared_ptr<const SdfccdBodyModel>> models,
-                                   std::vector<bool> isStatic, std::optional<double> groundHeight)
+PenetrationProbe::PenetrationProbe(std::vector<std::shared_ptr<const BodyModel>> models, std::vector<bool> isStatic,
+                                   std::optional<double> groundHeight)
     : m_models(std::move(models)), m_isStatic(std::move(isStatic)), m_groundHeight(groundHeight) {
   if (m_isStatic.size() != m_models.size()) throw Error("PenetrationProbe: one static flag per model is needed");
   for (const auto& model : m_models) {
@@ -45,7 +45,7 @@ PenetrationSample PenetrationProbe::measure(const std::vector<Rigid>& worldFromB
       if (a == b || (m_isStatic[a] && m_isStatic[b])) continue;
       const double reach = m_radius[a] + m_radius[b];
       if ((worldFromBody[a].translation() - worldFromBody[b].translation()).squaredNorm() > reach * reach) continue;
-      const SdfccdBodyModel& field = *m_models[b];
+      const BodyModel& field = *m_models[b];
       const Rigid fieldFromBodyA =
           (worldFromBody[b] * field.bodyFromField()).inverse(Eigen::Isometry) * worldFromBody[a];
       for (const Vec3& v : m_models[a]->meshInBody().vertices) {
@@ -66,7 +66,7 @@ std::vector<int> PenetrationProbe::tunneled(const std::vector<Rigid>& worldFromB
     bool through = m_groundHeight && com.y() < *m_groundHeight;
     for (std::size_t b = 0; b < m_models.size() && !through; ++b) {
       if (a == b) continue;
-      const SdfccdBodyModel& field = *m_models[b];
+      const BodyModel& field = *m_models[b];
       const Vec3 p = (worldFromBody[b] * field.bodyFromField()).inverse(Eigen::Isometry) * com;
       through = field.field().contains(p) && field.field().distance(p) < 0.0;
     }

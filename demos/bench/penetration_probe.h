@@ -4,7 +4,7 @@
 /// measured the same way.
 ///
 /// @details Ground: the deepest mesh vertex below the ground plane. Body vs body: every mesh vertex of one
-/// body looked up in the distance field of the other (its SdfccdBodyModel's grid, trilinear), both orders,
+/// body looked up in the distance field of the other (its BodyModel's grid, trilinear), both orders,
 /// for the pairs whose bounding spheres overlap; the deepest -phi. Both in metres and in cells of the fields
 /// (the largest cell of the scene's models). The mesh vertices are what GImpact collides; our plugin collides
 /// its point shell, so this measure does not favour it. Tunnelled: a dynamic body whose centre of mass is
@@ -15,8 +15,8 @@
 #include <optional>
 #include <vector>
 
-#include "sdfccd/bullet/sdfccd_body_model.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/model/body_model.h"
 
 namespace sdfccd::cli {
 
@@ -29,7 +29,7 @@ struct PenetrationSample {
 class PenetrationProbe {
  public:
   /// `models[i]` and `isStatic[i]` describe body i; no ground when groundHeight is empty.
-  PenetrationProbe(std::vector<std::shared_ptr<const SdfccdBodyModel>> models, std::vector<bool> isStatic,
+  PenetrationProbe(std::vector<std::shared_ptr<const BodyModel>> models, std::vector<bool> isStatic,
                    std::optional<double> groundHeight);
 
   PenetrationSample measure(const std::vector<Rigid>& worldFromBody) const;
@@ -42,7 +42,7 @@ class PenetrationProbe {
   double cellSize() const { return m_cellSize; }
 
  private:
-  std::vector<std::shared_ptr<const SdfccdBodyModel>> m_models;
+  std::vector<std::shared_ptr<const BodyModel>> m_models;
   std::vector<bool> m_isStatic;
   std::optional<double> m_groundHeight;
   std::vector<double> m_radius;  // bounding sphere of each mesh about its centre of mass (m)

@@ -18,21 +18,9 @@
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
-#if __has_include("sdfccd/io/mesh_loader.h")
-#include "sdfccd/io/mesh_loader.h"
-#define SDFCCD_HAPTICS_HAS_IO 1
-#endif
 
 namespace sdfccd::cli {
 namespace {
-
-haptics::MeshLoader sceneMeshLoader() {
-#ifdef SDFCCD_HAPTICS_HAS_IO
-  return [](const std::string& path) { return loadMesh(path); };
-#else
-  return {};
-#endif
-}
 
 struct HapticsOptions {
   std::string scene;
@@ -55,7 +43,6 @@ int runHaptics(const HapticsOptions& o) {
   settings.ccdThreads = o.ccdThreads;
   settings.recordTicks = !o.out.empty();
   haptics::HapticSceneLoadSettings load;
-  load.meshLoader = sceneMeshLoader();
   load.cacheDir = o.cache;
   const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, load);
   if (!o.out.empty()) {

@@ -74,9 +74,9 @@ int runSimulate(const SimulateOptions& o) {
   if (o.noToi) settings.timeOfImpactClamp = false;
   if (o.linear) settings.useTree = false;
   if (o.forceTiming == "next_step") {
-    settings.forceTiming = SdfccdForceTiming::NextStep;
+    settings.forceTiming = ForceTiming::NextStep;
   } else if (o.forceTiming == "same_step") {
-    settings.forceTiming = SdfccdForceTiming::SameStep;
+    settings.forceTiming = ForceTiming::SameStep;
   } else if (!o.forceTiming.empty()) {
     throw Error("--force-timing must be same_step or next_step (got '" + o.forceTiming + "')");
   }

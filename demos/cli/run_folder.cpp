@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "sdfccd/error.h"
-#include "sdfccd/io/mesh_loader.h"
 #include "sdfccd/mesh/mass_properties.h"
-#include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/model/mesh_file.h"
+#include "sdfccd/model/scene.h"
 
 namespace sdfccd::cli {
 
@@ -45,37 +45,6 @@ std::vector<std::string> splitCsvLine(const std::string& line) {
   for (std::string field; std::getline(stream, field, ',');) fields.push_back(trim(field));
   if (!line.empty() && line.back() == ',') fields.emplace_back();
   return fields;
-}
-
-Vec3 readVec3(const nlohmann::json& value, const std::string& what) {
-  if (!value.is_array() || value.size() != 3) throw Error(what + " must be an array of 3 numbers");
-  Vec3 v;
-  for (int i = 0; i < 3; ++i) {
-    if (!value[static_cast<std::size_t>(i)].is_number()) throw Error(what + " must be an array of 3 numbers");
-    v[i] = value[static_cast<std::size_t>(i)].get<double>();
-  }
-  if (!v.allFinite()) throw Error(what + " is not finite");
-  return v;
-}
-
-std::optional<std::string> findMesh(const std::string& meshPath, const std::vector<std::string>& searchFolders,
-                                    const fs::path& sceneFolder) {
-  const fs::path given(meshPath);
-  if (given.is_absolute()) return fs::exists(given) ? std::optional<std::string>(meshPath) : std::nullopt;
-  std::vector<fs::path> folders(searchFolders.begin(), searchFolders.end());
-  // The scene's folder and its parents: "assets/meshes/x.off" in assets/scenes/s.json resolves from the root.
-  fs::path folder = sceneFolder;
-  for (int up = 0; up < 4 && !folder.empty(); ++up) {
-    folders.push_back(folder);
-    if (folder == folder.parent_path()) break;
-    folder = folder.parent_path();
-  }
-  folders.push_back(fs::current_path());
-  for (const fs::path& candidateFolder : folders) {
-    const fs::path candidate = candidateFolder / given;
-    if (fs::is_regular_file(candidate)) return candidate.lexically_normal().string();
-  }
-  return std::nullopt;
 }
 
 /// Column lookup by any of several names (lower case), optionally prefixed by a body name.
@@ -146,108 +115,33 @@ const SeriesColumn kSeries[] = {
     {"step_seconds", {{"step_seconds", 1.0}, {"step_s", 1.0}, {"step_ms", 1e-3}}, false},
 };
 
-TriangleMesh primitiveMesh(const RunPrimitive& p) {
-  // The same shapes as the Bullet scenes build (bullet_ext scene_world.cpp).
-  if (p.type == "box") return makeBox(p.halfExtents);
-  if (p.type == "sphere") return makeIcosphere(p.radius, p.subdivisions);
-  if (p.type == "cylinder") return makeCylinder(p.radius, p.height);
-  LathedBowlSettings bowl;
-  const double factor = p.radius / bowl.rimRadius;
-  bowl.rimRadius = p.radius;
-  bowl.height = p.height;
-  bowl.wall *= factor;
-  bowl.footRadius *= factor;
-  bowl.footHeight *= factor;
-  return makeLathedBowl(bowl);
-}
-
 }  // namespace
 
 RunScene readRunScene(const std::string& path, const std::vector<std::string>& searchFolders, bool resolveMeshes) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open scene '" + path + "': " + std::strerror(errno));
-  nlohmann::json json;
-  try {
-    in >> json;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("scene '" + path + "' is not valid JSON: " + std::string(e.what()));
+  SceneLoadSettings load;
+  load.searchFolders = searchFolders;
+  load.requireFiles = resolveMeshes;
+  const Scene scene = loadScene(path, load);
+  RunScene run;
+  run.path = path;
+  // The ground is drawn when it is simulated: the "ground" effect.
+  if (scene.has("ground")) run.groundHeight = scene.groundHeight;
+  run.camera = scene.camera;
+  for (const SceneBody& b : scene.bodies) {
+    RunBody body;
+    body.name = b.name;
+    body.meshPath = b.mesh;
+    body.primitive = b.primitive;
+    body.scale = b.scale;
+    body.isStatic = b.isStatic;
+    body.mass = b.isStatic ? 0.0 : b.mass;
+    body.positionAtStart = b.position;
+    body.orientationAtStart = b.orientation;
+    body.worldFromBody.linear() = body.orientationAtStart.toRotationMatrix();
+    body.worldFromBody.translation() = body.positionAtStart;
+    run.bodies.push_back(std::move(body));
   }
-  RunScene scene;
-  scene.path = path;
-  const fs::path sceneFolder = fs::absolute(fs::path(path)).parent_path();
-  try {
-    if (!json.is_object() || !json.contains("bodies") || !json["bodies"].is_array()) {
-      throw Error("scene '" + path + "' has no \"bodies\" array");
-    }
-    // The ground is drawn when it is simulated: the "ground" effect (height from "ground": {"height": h}).
-    const bool groundEffect =
-        json.contains("effects") && json["effects"].is_array() &&
-        std::find(json["effects"].begin(), json["effects"].end(), "ground") != json["effects"].end();
-    if (groundEffect) {
-      double height = 0.0;
-      if (json.contains("ground") && json["ground"].is_object() && json["ground"].contains("height")) {
-        height = json["ground"]["height"].get<double>();
-      }
-      if (!std::isfinite(height)) throw Error("scene '" + path + "': ground height is not finite");
-      scene.groundHeight = height;
-    }
-    if (json.contains("camera")) {
-      const nlohmann::json& c = json["camera"];
-      RunCamera camera;
-      camera.eye = readVec3(c.at("eye"), "scene '" + path + "': camera eye");
-      camera.target = readVec3(c.at("target"), "scene '" + path + "': camera target");
-      if (c.contains("up")) camera.up = readVec3(c["up"], "scene '" + path + "': camera up");
-      if (c.contains("fov")) camera.fovDegrees = c["fov"].get<double>();
-      scene.camera = camera;
-    }
-    int index = 0;
-    for (const nlohmann::json& b : json["bodies"]) {
-      RunBody body;
-      body.name = b.contains("name") ? b["name"].get<std::string>() : "body" + std::to_string(index);
-      const std::string where = "scene '" + path + "', body '" + body.name + "'";
-      if (b.contains("primitive")) {
-        const nlohmann::json& j = b["primitive"];
-        RunPrimitive primitive;
-        primitive.type = j.at("type").get<std::string>();
-        if (primitive.type != "box" && primitive.type != "sphere" && primitive.type != "cylinder" &&
-            primitive.type != "bowl") {
-          throw Error(where + ": unknown primitive '" + primitive.type + "'");
-        }
-        if (j.contains("half_extents")) primitive.halfExtents = readVec3(j["half_extents"], where + ": half_extents");
-        if (j.contains("radius")) primitive.radius = j["radius"].get<double>();
-        if (j.contains("height")) primitive.height = j["height"].get<double>();
-        if (j.contains("subdivisions")) primitive.subdivisions = j["subdivisions"].get<int>();
-        body.primitive = primitive;
-      } else {
-        if (!b.contains("mesh") || !b["mesh"].is_string()) throw Error(where + " has no \"mesh\" file");
-        const std::string meshPath = b["mesh"].get<std::string>();
-        const std::optional<std::string> found = findMesh(meshPath, searchFolders, sceneFolder);
-        if (!found && resolveMeshes) throw Error(where + ": mesh '" + meshPath + "' not found");
-        body.meshPath = found ? *found : meshPath;
-      }
-      if (b.contains("scale")) body.scale = b["scale"].get<double>();
-      if (!(body.scale > 0.0) || !std::isfinite(body.scale)) throw Error(where + ": scale must be positive");
-      if (b.contains("static")) body.isStatic = b["static"].get<bool>();
-      if (b.contains("mass")) body.mass = b["mass"].get<double>();
-      if (body.isStatic) body.mass = 0.0;
-      if (!(body.mass >= 0.0) || !std::isfinite(body.mass)) throw Error(where + ": bad mass");
-      if (b.contains("position")) body.positionAtStart = readVec3(b["position"], where + ": position");
-      if (b.contains("orientation")) {
-        const nlohmann::json& q = b["orientation"];
-        if (!q.is_array() || q.size() != 4) throw Error(where + ": orientation must be [w, x, y, z]");
-        Quat rotation(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
-        if (!rotation.coeffs().allFinite() || rotation.norm() < 1e-9) throw Error(where + ": bad orientation");
-        body.orientationAtStart = rotation.normalized();
-      }
-      body.worldFromBody.linear() = body.orientationAtStart.toRotationMatrix();
-      body.worldFromBody.translation() = body.positionAtStart;
-      scene.bodies.push_back(std::move(body));
-      ++index;
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("scene '" + path + "': " + std::string(e.what()));
-  }
-  return scene;
+  return run;
 }
 
 Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensityPrincipalMoments,
@@ -255,7 +149,7 @@ Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensit
   MassPropertiesSettings unitDensity;
   unitDensity.density = 1.0;
   const MassProperties inModel = computeMassProperties(scaledMeshInModel, unitDensity);
-  const BodyFrame frame = bodyFrameOf(inModel);  // the same rule as SdfccdBodyModel
+  const BodyFrame frame = bodyFrameOf(inModel);  // the same rule as BodyModel
   if (outUnitDensityPrincipalMoments != nullptr) *outUnitDensityPrincipalMoments = frame.principalMoments();
   if (outUnitDensityMass != nullptr) *outUnitDensityMass = inModel.mass;
   return frame.modelFromBody;
@@ -273,7 +167,7 @@ void loadRunMeshes(RunScene& ioScene) {
     std::ostringstream key;
     key.precision(17);
     if (body.primitive) {
-      const RunPrimitive& p = *body.primitive;
+      const ScenePrimitive& p = *body.primitive;
       key << "primitive " << p.type << " " << p.halfExtents.transpose() << " " << p.radius << " " << p.height << " "
           << p.subdivisions;
     } else {
@@ -283,7 +177,7 @@ void loadRunMeshes(RunScene& ioScene) {
     auto it = loaded.find(key.str());
     if (it == loaded.end()) {
       try {
-        TriangleMesh mesh = body.primitive ? primitiveMesh(*body.primitive) : loadMesh(body.meshPath);
+        TriangleMesh mesh = body.primitive ? makePrimitiveMesh(*body.primitive) : loadMeshFile(body.meshPath);
         for (Vec3& v : mesh.vertices) v *= body.scale;
         Loaded entry;
         entry.modelFromBody = modelFromBodyOf(mesh, &entry.unitMoments, &entry.unitMass);

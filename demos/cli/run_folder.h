@@ -21,28 +21,21 @@
 
 #include "sdfccd/math_types.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/model/scene_camera.h"
+#include "sdfccd/model/scene_primitive.h"
 
 namespace sdfccd::cli {
 
-/// A procedural shape instead of a mesh file (scene key "primitive"; procedural_meshes.h).
-struct RunPrimitive {
-  std::string type;                        ///< "box", "sphere", "cylinder" or "bowl"
-  Vec3 halfExtents = Vec3::Constant(0.5);  ///< box (model units)
-  double radius = 0.5;                     ///< sphere, cylinder; the bowl's rim radius
-  double height = 1.0;                     ///< cylinder; the bowl's height
-  int subdivisions = 3;                    ///< sphere
-};
-
 /// One body of a run's scene.
 ///
-/// Poses are of the *body frame* the simulation integrates (the Bullet plugin's SdfccdBodyModel): origin at
+/// Poses are of the *body frame* the simulation integrates (BodyModel, sdfccd/model/body_model.h): origin at
 /// the centre of mass, axes along the principal axes of inertia unless the mesh's own axes already are
 /// principal. loadRunMeshes() puts the scaled mesh into that frame the same way, so `worldFromBody * vertex`
 /// places it.
 struct RunBody {
   std::string name;
   std::string meshPath;  ///< resolved path of the mesh file (empty for a primitive)
-  std::optional<RunPrimitive> primitive;
+  std::optional<ScenePrimitive> primitive;
   double scale = 1.0;  ///< uniform scale of the mesh (baked into `mesh`)
   double mass = 1.0;   ///< kg (0 for static bodies)
   bool isStatic = false;
@@ -54,20 +47,12 @@ struct RunBody {
   Rigid worldFromBody = Rigid::Identity();   ///< the pose at the start (m)
 };
 
-/// The camera a scene file asks for: "camera": {"eye": [x,y,z], "target": [x,y,z], "fov": degrees, "up": [...]}.
-struct RunCamera {
-  Vec3 eye = Vec3::Zero();
-  Vec3 target = Vec3::Zero();
-  Vec3 up = Vec3::UnitY();
-  double fovDegrees = 40.0;  ///< vertical field of view (degrees)
-};
-
 /// What the renderer needs from a scene file.
 struct RunScene {
   std::string path;  ///< the scene file read
   std::vector<RunBody> bodies;
   std::optional<double> groundHeight;  ///< y of the ground plane (m), when the scene has a ground
-  std::optional<RunCamera> camera;
+  std::optional<SceneCamera> camera;
 };
 
 /// Per-frame data of a run.
@@ -85,11 +70,11 @@ inline constexpr const char* kRunSceneFile = "scene.json";
 inline constexpr const char* kRunFramesFile = "frames.csv";
 inline constexpr const char* kRunSummaryFile = "summary.json";
 
-/// Reads the bodies, ground and camera of a scene file (the keys the renderer uses; other keys are ignored,
-/// the simulate command validates them). Mesh paths that are not absolute are looked up relative to each of
-/// `searchFolders` in turn, then the scene file's folder and its parents, then the current folder. Throws
-/// sdfccd::Error for an unreadable file, bad JSON, a body without a mesh, or (when `resolveMeshes`) a mesh
-/// found nowhere; without `resolveMeshes` an unfound mesh keeps the path as written.
+/// Reads the bodies, ground and camera of a scene file with the model layer's scene reader (loadScene,
+/// sdfccd/model/scene.h: the same strict validation as `sdfccd simulate`). File paths that are not absolute are
+/// looked up relative to the current folder, then the scene file's folder and its ancestors, then each of
+/// `searchFolders` in turn. Throws sdfccd::Error (one line naming the file and the key) for any defect, or (when
+/// `resolveMeshes`) a file found nowhere; without `resolveMeshes` an unfound file keeps the path as written.
 RunScene readRunScene(const std::string& path, const std::vector<std::string>& searchFolders = {},
                       bool resolveMeshes = true);
 
@@ -99,7 +84,7 @@ RunScene readRunScene(const std::string& path, const std::vector<std::string>& s
 void loadRunMeshes(RunScene& ioScene);
 
 /// The body frame of a scaled mesh: `modelFromBody` maps body coordinates to (scaled) mesh coordinates, by
-/// bodyFrameOf (mass_properties.h), the rule SdfccdBodyModel (bullet_ext) uses too.
+/// bodyFrameOf (mass_properties.h), the rule BodyModel (sdfccd/model/body_model.h) uses too.
 Rigid modelFromBodyOf(const TriangleMesh& scaledMeshInModel, Vec3* outUnitDensityPrincipalMoments = nullptr,
                       double* outUnitDensityMass = nullptr);
 

@@ -31,7 +31,7 @@ struct FrameRenderSettings {
   int every = 1;                       ///< render frames whose number is a multiple of this (>= 1)
   int supersample = 2;                 ///< anti-aliasing factor (1 = none)
   std::optional<double> groundHeight;  ///< y of the ground (m); no ground drawn when empty
-  std::optional<RunCamera> camera;     ///< the scene's camera; empty = automatic framing
+  std::optional<SceneCamera> camera;   ///< the scene's camera; empty = automatic framing
   std::vector<Vec3> framingPoints;     ///< world points to frame automatically (m), e.g. a whole run's body
                                        ///< box corners; empty = the first frame's
 };

@@ -1,12 +1,12 @@
 // Small scenes for the Bullet suite: fields of a few dozen cells and a few hundred points keep it fast.
 #pragma once
 
-#include <string>
-
 #include <gtest/gtest.h>
 
-#include "sdfccd/bullet/scene.h"
+#include <string>
+
 #include "sdfccd/error.h"
+#include "sdfccd/model/scene.h"
 
 namespace sdfccd::test {
 

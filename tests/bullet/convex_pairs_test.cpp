@@ -67,22 +67,22 @@ SdfccdContactSettings dropSettings() {
   return s;
 }
 
-std::shared_ptr<const SdfccdBodyModel> boxModel(const Vec3& halfExtents, int points = 600) {
-  SdfccdBodyModelSettings s;
+std::shared_ptr<const BodyModel> boxModel(const Vec3& halfExtents, int points = 600) {
+  BodyModelSettings s;
   s.resolution = 32;
   s.points = points;
-  return SdfccdBodyModel::buildFromMesh(makeBox(halfExtents), s);
+  return BodyModel::buildFromMesh(makeBox(halfExtents), s);
 }
 
 // The bunny (0.2 m) falls 2 cm onto a static 1.2 x 0.1 x 1.2 m btBoxShape whose top is at y = 0.15 and comes
 // to rest on it: its lowest shell point is at the top, within the penetration that carries its weight (a
 // fraction of a cell), and it stays over the box. Our shell meets the BoxField, the box's points our field.
 TEST(ConvexPairs, BunnyRestsOnStaticBulletBox) {
-  SdfccdBodyModelSettings s;
+  BodyModelSettings s;
   s.resolution = 48;
   s.points = 1500;  // fewer points on this coarse a shell leave the bunny rocking on three or four of them
   s.scale = 0.2;
-  auto bunny = SdfccdBodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
+  auto bunny = BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
   ConvexWorld w(dropSettings());
   w.add(std::make_unique<btBoxShape>(btVector3(0.6f, 0.05f, 0.6f)), 0.0, Vec3(0, 0.1, 0));
   const double top = 0.15;

@@ -22,7 +22,7 @@ TEST(Drop, BoxRestsAtAnalyticHeight) {
                   "mass": 1.0, "position": [0, 0.07, 0], "points": 400, "resolution": 24 } ] })");
   SceneWorld world(scene);
   for (int f = 0; f < scene.frames; ++f) world.step();
-  const SdfccdBodyModel& model = world.model(0);
+  const BodyModel& model = world.model(0);
   int bottom = 0;
   for (const Vec3& n : model.shell().normals) bottom += n.y() < -0.999 ? 1 : 0;
   ASSERT_GT(bottom, 50);

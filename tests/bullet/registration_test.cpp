@@ -16,11 +16,11 @@
 namespace sdfccd {
 namespace {
 
-std::shared_ptr<const SdfccdBodyModel> smallSphereModel() {
-  SdfccdBodyModelSettings s;
+std::shared_ptr<const BodyModel> smallSphereModel() {
+  BodyModelSettings s;
   s.resolution = 16;
   s.points = 100;
-  return SdfccdBodyModel::buildFromMesh(makeIcosphere(0.1, 2), s);
+  return BodyModel::buildFromMesh(makeIcosphere(0.1, 2), s);
 }
 
 enum class Found { Ours, Empty, Other, None };

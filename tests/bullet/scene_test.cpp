@@ -1,8 +1,7 @@
-// Scenes: strict validation (one-line errors), effects that are not listed cost nothing, determinism, and
-// the shipped scene files parse.
+// Scenes in Bullet: effects that are not listed cost nothing, and determinism. (Reading and validating scene
+// files: tests/model/scene_reader_test.cpp.)
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <string>
 
 #include "bullet_test_util.h"
@@ -12,45 +11,10 @@
 namespace sdfccd {
 namespace {
 
-std::string errorOf(const std::string& text) {
-  try {
-    test::sceneFromText(text);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 const char* kBody = R"({ "primitive": { "type": "box", "half_extents": [0.1, 0.1, 0.1] }, "mass": 1.0 })";
 
 std::string withBody(const std::string& top, const std::string& body = kBody) {
   return "{ " + top + (top.empty() ? "" : ", ") + "\"bodies\": [" + body + "] }";
-}
-
-TEST(Scene, BadScenesFailWithOneLine) {
-  const std::string cases[][2] = {
-      {withBody("\"timestep\": 0.001, \"colour\": 3"), "colour"},
-      {withBody("", R"({ "primitive": { "type": "box" }, "mass": -1.0 })"), "mass"},
-      {withBody("", R"({ "primitive": { "type": "box" }, "mass": 0.0 })"), "mass"},
-      {withBody("", R"({ "primitive": { "type": "box" } })"), "mass"},
-      {withBody("", R"({ "mesh": "meshes/no-such-mesh.off", "mass": 1.0 })"), "missing file"},
-      {withBody("", R"({ "primitive": { "type": "box" }, "mass": 1.0, "orientation": [1, 0.1, 0, 0] })"),
-       "unit quaternion"},
-      {withBody("", R"({ "primitive": { "type": "box" }, "mass": 1.0, "position": [0, 1e999, 0] })"), "JSON"},
-      {withBody("", R"({ "primitive": { "type": "box" }, "mass": 1.0, "spin": 2 })"), "spin"},
-      {withBody("\"effects\": [\"gravity\", \"magnetism\"]"), "magnetism"},
-      {withBody("\"timestep\": -0.01"), "timestep"},
-      {withBody("\"contact\": { \"model\": \"implicit\" }"), "contact.model"},
-      {"{ \"bodies\": [] }", "bodies"},
-      {"{ \"timestep\": 0.001, ", "JSON"},
-      {"{ \"timestep\": NaN, \"bodies\": [] }", "JSON"},
-  };
-  for (const auto& c : cases) {
-    const std::string message = errorOf(c[0]);
-    EXPECT_NE(message.find(c[1]), std::string::npos) << "scene: " << c[0] << "\nmessage: " << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
-  EXPECT_EQ(errorOf(withBody("\"effects\": [\"gravity\"]")), "");
 }
 
 TEST(Scene, EffectsNotListedAreNotComputed) {
@@ -87,16 +51,6 @@ TEST(Scene, DeterministicResultHash) {
     hashes[run] = world.stateHash();
   }
   EXPECT_EQ(hashes[0], hashes[1]);
-}
-
-TEST(Scene, ShippedScenesParse) {
-  int count = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(SDFCCD_ASSETS_DIR) + "/scenes")) {
-    if (entry.path().extension() != ".json") continue;
-    EXPECT_NO_THROW(loadScene(entry.path().string())) << entry.path();
-    ++count;
-  }
-  EXPECT_GE(count, 5);
 }
 
 }  // namespace

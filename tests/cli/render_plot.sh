@@ -61,7 +61,7 @@ else
   bad="$work/missing_mesh"
   make_run "$bad" "no/such/mesh.off"
   out="$("$tool" render "$bad" --size 64x64 2>&1)" && fail "missing mesh accepted"
-  echo "$out" | grep -q "mesh 'no/such/mesh.off' not found" || fail "missing mesh message: $out"
+  echo "$out" | grep -q "bodies\[0\].mesh names a missing file 'no/such/mesh.off'" || fail "missing mesh message: $out"
   [ "$(echo "$out" | wc -l)" -eq 1 ] || fail "missing mesh: more than one line: $out"
   # Unwritable output folder (a path below a regular file fails even for root).
   touch "$work/plain_file"

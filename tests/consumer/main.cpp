@@ -1,5 +1,7 @@
-// Builds a 2x2x2-node field phi(x,y,z) = x + 2y + 3z - 1 and checks trilinear interpolation at one point.
+// Builds a 2x2x2-node field phi(x,y,z) = x + 2y + 3z - 1 and checks trilinear interpolation at one point; parses
+// a one-body scene with the model layer.
 #include <sdfccd/field/sdf_grid.h>
+#include <sdfccd/model/scene.h>
 
 #include <cmath>
 #include <cstdio>
@@ -14,6 +16,12 @@ int main() {
   const double expected = 0.25 + 1.0 + 2.25 - 1.0;
   if (std::abs(phi - expected) > 1e-12) {
     std::printf("consumer: got %.17g, expected %.17g\n", phi, expected);
+    return 1;
+  }
+  const sdfccd::Scene scene = sdfccd::parseScene(
+      R"({"bodies": [{"primitive": {"type": "sphere", "radius": 0.1}, "mass": 2.0}]})", "consumer", ".");
+  if (scene.bodies.size() != 1 || scene.bodies[0].mass != 2.0) {
+    std::printf("consumer: the scene was not read\n");
     return 1;
   }
   std::printf("consumer: ok\n");

@@ -1,5 +1,5 @@
 /// @file
-/// @brief libFuzzer target: arbitrary bytes into the scene JSON parser (parseScene, bullet_ext scene.h).
+/// @brief libFuzzer target: arbitrary bytes into the scene JSON parser (parseScene, sdfccd/model/scene.h).
 ///
 /// @details The contract under test: parseScene either returns a valid scene or throws sdfccd::Error. Any
 /// other exception (e.g. a stray nlohmann::json exception), a crash, a leak or undefined behaviour (ASan +
@@ -12,8 +12,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "sdfccd/bullet/scene.h"
 #include "sdfccd/error.h"
+#include "sdfccd/model/scene.h"
 
 namespace {
 

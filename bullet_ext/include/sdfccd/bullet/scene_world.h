@@ -2,10 +2,11 @@
 /// @brief SceneWorld: a btDiscreteDynamicsWorld built from a Scene, with our shape, algorithms and contact
 /// system registered, stepped one frame at a time (paper Section 5, Fig. 9 and 10a).
 ///
-/// @details Every body gets an SdfccdShape; bodies whose mesh and build parameters match share one model
-/// (twenty bunnies, one field). The "ground" effect adds a btStaticPlaneShape body (an analytic PlaneField to
-/// our algorithm). One frame is one Bullet step of exactly scene.timestep (stepSimulation(dt, 0): no
-/// accumulator, no interpolation). Body states are reported at the centre of mass (Bullet's body frame).
+/// @details Every body gets an SdfccdShape around its model (buildSceneModels, sdfccd/model/scene_models.h:
+/// bodies whose mesh and build parameters match share one model, twenty bunnies, one field). The "ground" effect adds a
+/// btStaticPlaneShape body (an analytic PlaneField to our algorithm). One frame is one Bullet step of exactly
+/// scene.timestep (stepSimulation(dt, 0): no accumulator, no interpolation). Body states are reported at the centre of
+/// mass (Bullet's body frame).
 ///
 /// Tunnelling check (tunneledBodies()): a dynamic body tunnelled when its centre of mass is below the ground
 /// plane, or on the other side of a static thin body ("plate": smallest extent under a quarter of the next)
@@ -18,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/bullet/scene.h"
-#include "sdfccd/bullet/sdfccd_body_model.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/model/body_model.h"
+#include "sdfccd/model/scene.h"
 #include "sdfccd/progress.h"
 
 class btCollisionShape;
@@ -31,17 +32,17 @@ namespace sdfccd {
 
 /// Options of SceneWorld that do not belong in the scene file.
 struct SceneWorldSettings {
-  std::string cacheDir;                          ///< body model cache for mesh files ("" = none)
-  int threads = 0;                               ///< threads for building fields and shells (0 = all)
-  std::optional<PenaltyModel> model;             ///< overrides contact.model
-  std::optional<double> timestep;                ///< overrides timestep (s)
-  std::optional<double> stiffness;               ///< overrides contact.stiffness (N/m)
-  std::optional<bool> timeOfImpactClamp;         ///< overrides contact.toi_clamp
-  std::optional<bool> useTree;                   ///< overrides contact.tree
-  std::optional<SdfccdForceTiming> forceTiming;  ///< overrides contact.force_timing
-  int shadowLinearEvery = 0;                     ///< see SdfccdContactSettings::shadowLinearEvery
-  bool allowSleeping = true;                     ///< false: bodies never deactivate (benchmarks time every frame)
-  ProgressCallback buildProgress;                ///< fraction of the model builds done
+  std::string cacheDir;                    ///< body model cache for mesh files ("" = none)
+  int threads = 0;                         ///< threads for building fields and shells (0 = all)
+  std::optional<PenaltyModel> model;       ///< overrides contact.model
+  std::optional<double> timestep;          ///< overrides timestep (s)
+  std::optional<double> stiffness;         ///< overrides contact.stiffness (N/m)
+  std::optional<bool> timeOfImpactClamp;   ///< overrides contact.toi_clamp
+  std::optional<bool> useTree;             ///< overrides contact.tree
+  std::optional<ForceTiming> forceTiming;  ///< overrides contact.force_timing
+  int shadowLinearEvery = 0;               ///< see SdfccdContactSettings::shadowLinearEvery
+  bool allowSleeping = true;               ///< false: bodies never deactivate (benchmarks time every frame)
+  ProgressCallback buildProgress;          ///< fraction of the model builds done
 };
 
 /// A body's state at its centre of mass.
@@ -81,8 +82,8 @@ class SceneWorld {
   const std::string& bodyName(int i) const { return m_scene.bodies[static_cast<std::size_t>(i)].name; }
   bool isStatic(int i) const { return m_scene.bodies[static_cast<std::size_t>(i)].isStatic; }
   SceneBodyState bodyState(int i) const;
-  const SdfccdBodyModel& model(int i) const { return *m_models[static_cast<std::size_t>(i)]; }
-  const std::shared_ptr<const SdfccdBodyModel>& modelPtr(int i) const { return m_models[static_cast<std::size_t>(i)]; }
+  const BodyModel& model(int i) const { return *m_models[static_cast<std::size_t>(i)]; }
+  const std::shared_ptr<const BodyModel>& modelPtr(int i) const { return m_models[static_cast<std::size_t>(i)]; }
   btRigidBody& body(int i) { return *m_bodies[static_cast<std::size_t>(i)]; }
   btDiscreteDynamicsWorld& world() { return *m_world; }
   SdfccdContactSystem& contacts() { return *m_contacts; }
@@ -107,7 +108,7 @@ class SceneWorld {
   std::unique_ptr<struct SceneWorldBullet> m_bullet;
   btDiscreteDynamicsWorld* m_world = nullptr;
   std::shared_ptr<SdfccdContactSystem> m_contacts;
-  std::vector<std::shared_ptr<const SdfccdBodyModel>> m_models;
+  std::vector<std::shared_ptr<const BodyModel>> m_models;
   std::vector<btRigidBody*> m_bodies;
   std::vector<Plate> m_plates;
   int m_frame = 0;
@@ -125,7 +126,7 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene);
 /// own in a benchmark peer): the start pose of worldFromBodyAt (mass_properties.h), the mass (0 when static),
 /// the principal inertia of `model`'s solid, the start velocities, no rotation without the "rotation" effect,
 /// and never asleep unless `maySleep` and the scene allows it. The caller adds it to a world.
-std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& body, const SdfccdBodyModel& model,
+std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& body, const BodyModel& model,
                                                 btCollisionShape* shape, bool maySleep);
 
 }  // namespace sdfccd

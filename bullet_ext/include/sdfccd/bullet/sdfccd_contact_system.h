@@ -16,7 +16,7 @@
 ///    frames of the shell's body and of the field (the model's field frame in its body).
 /// 2. The impulses I and M reach the velocities as impulses (eq. 5: the averaged force F* = I/dt acting over
 ///    a step is the impulse F* dt; forces applied with applyCentralForce would accumulate over substeps
-///    until clearForces). When, is a setting (SdfccdForceTiming): the paper's "over the next step" (in
+///    until clearForces). When, is a setting (ForceTiming): the paper's "over the next step" (in
 ///    updateAction: this object is a btActionInterface, run after integrateTransforms), or at once in the
 ///    narrowphase, before Bullet integrates the same step (the default: stable at stiffer settings).
 /// 3. Time-of-impact clamping (beyond the paper): averaged penalty forces act one step late and cannot stop a
@@ -49,6 +49,7 @@
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/response/contact_query.h"
+#include "sdfccd/response/force_timing.h"
 #include "sdfccd/response/penalty_model.h"
 #include "sdfccd/shell/point_tree.h"
 
@@ -66,21 +67,9 @@ namespace sdfccd {
 
 class SdfccdShape;
 
-/// When the step's penalty impulses reach the velocities.
-enum class SdfccdForceTiming : std::uint8_t {
-  /// Paper, Section 4.1 literally: I and M from the step's motion act over the *next* step (applied after
-  /// integrateTransforms). The force lags the motion by half a step on average, which feeds energy into a
-  /// stiff contact (for a linear spring the amplification per step is sqrt(1 + (omega dt)^2 / 2)); damping
-  /// must absorb it.
-  NextStep,
-  /// Predictive: I and M are integrated over the step's predicted motion and applied at once, before
-  /// Bullet integrates the step (a semi-implicit step: dissipative, stable for omega dt < 2).
-  SameStep,
-};
-
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
-  SdfccdForceTiming forceTiming = SdfccdForceTiming::SameStep;  ///< see SdfccdForceTiming
+  ForceTiming forceTiming = ForceTiming::SameStep;  ///< see ForceTiming
   PenaltySettings penalty;               ///< model (continuous/discrete), stiffness, damping, subintervals, flags
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)

@@ -2,7 +2,7 @@
 /// @brief SdfccdShape: the Bullet collision shape of a body that carries a point shell and a distance field
 /// (paper Section 5: "each bunny carries a pointshell and a signed distance field").
 ///
-/// @details The shape holds a shared, immutable SdfccdBodyModel; any number of shapes and bodies may share
+/// @details The shape holds a shared, immutable BodyModel; any number of shapes and bodies may share
 /// one model. Contacts come from SdfccdCollisionAlgorithm (sdfccd_collision_algorithm.h), registered with
 /// registerSdfccdAlgorithms().
 ///
@@ -18,7 +18,7 @@
 ///   counted in the contact system's statistics). Consequence: btSdfCollisionShape cannot be used in the same world.
 /// - Bullet's own swept-sphere CCD runs only for convex shapes, so it never interferes with ours.
 ///
-/// Scaling: uniform scale is baked into the model when it is built (SdfccdBodyModelSettings::scale);
+/// Scaling: uniform scale is baked into the model when it is built (BodyModelSettings::scale);
 /// setLocalScaling() accepts only (1, 1, 1) and throws sdfccd::Error otherwise.
 #pragma once
 
@@ -26,7 +26,7 @@
 
 #include <memory>
 
-#include "sdfccd/bullet/sdfccd_body_model.h"
+#include "sdfccd/model/body_model.h"
 
 namespace sdfccd {
 
@@ -35,12 +35,12 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
   BT_DECLARE_ALIGNED_ALLOCATOR();
 
   /// Throws sdfccd::Error if `model` is null.
-  explicit SdfccdShape(std::shared_ptr<const SdfccdBodyModel> model);
+  explicit SdfccdShape(std::shared_ptr<const BodyModel> model);
 
-  const SdfccdBodyModel& model() const {
+  const BodyModel& model() const {
     return *m_model;
   }
-  const std::shared_ptr<const SdfccdBodyModel>& modelPtr() const {
+  const std::shared_ptr<const BodyModel>& modelPtr() const {
     return m_model;
   }
 
@@ -60,7 +60,7 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
       const override;
 
  private:
-  std::shared_ptr<const SdfccdBodyModel> m_model;
+  std::shared_ptr<const BodyModel> m_model;
   btVector3 m_localScaling{1, 1, 1};
   btVector3 m_localAabbMin;
   btVector3 m_localAabbMax;

@@ -7,6 +7,12 @@
 /// renderers, in the scene's own units (metres in the shipped scenes). Contact tolerances are written in
 /// voxels ("cells") in the file and converted with the field's spacing.
 ///
+/// Reading goes through the model layer's strict reader (sdfccd/model/detail/json_reader.h): unknown keys, wrong
+/// types and absurd values are one-line sdfccd::Error naming the file and the key path; mesh files are read by
+/// loadMeshFile (sdfccd/model/mesh_file.h) and looked up like the files of simulation scenes (the current
+/// folder, then the scene's folder and its ancestors); fields built from meshes are kept in the model cache
+/// (sdfccd/model/model_cache.h).
+///
 /// Static objects come from a mesh file (buildSdf, exact distances) or are built on the grid from exact box and y-axis
 /// cylinder signed distances combined by CSG: phi = max(min_i solid_i, -min_j hole_j). Its zero level set is the exact
 /// boundary, and near flat walls the values are the exact distances, so a field offset of 0.1 voxel
@@ -17,7 +23,6 @@
 /// File format: see assets/scenes/haptics/README.md.
 #pragma once
 
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,8 +34,8 @@
 #include "sdfccd/haptics/god_object.h"
 #include "sdfccd/haptics/penalty_renderer.h"
 #include "sdfccd/haptics/user_script.h"
-#include "sdfccd/shell/point_tree.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/shell/point_tree.h"
 
 namespace sdfccd::haptics {
 
@@ -94,27 +99,17 @@ struct HapticScene {
 /// sdfccd::Error on points < 1.
 void resampleSceneShell(HapticScene& scene, int points);
 
-/// Reads a mesh file (the core has no mesh reader: tools pass sdfccd::io's loadMesh).
-using MeshLoader = std::function<TriangleMesh(const std::string& path)>;
-
 /// How a scene file is loaded.
 struct HapticSceneLoadSettings {
-  MeshLoader meshLoader;  ///< reads mesh files (paths relative to the scene file); empty: mesh files refused
-  /// Folder where the fields built from meshes (buildSdf: seconds to minutes at 512^3) are cached, keyed by
-  /// the mesh's content and the build parameters ("<name>-<hash>.sdf", native format); "": no cache.
+  /// Folder of the model cache (sdfccd/model/model_cache.h) where the fields built from meshes (buildSdf: seconds
+  /// to minutes at 512^3) are kept, keyed by the mesh's content and the build parameters ("<name>-<key>.sdf",
+  /// native format); "": no cache.
   std::string cacheDir;
 };
 
-/// Loads a scene file. Mesh paths in it are relative to the scene file's folder and need a mesh loader.
-/// Throws sdfccd::Error (one line naming the file and the key) on a missing file, bad JSON, missing or
-/// absurd values, or a mesh scene without a loader. A damaged cache entry is rebuilt and overwritten.
-HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettings& settings);
-
-/// As above, without a field cache.
-inline HapticScene loadHapticScene(const std::string& path, const MeshLoader& meshLoader = {}) {
-  HapticSceneLoadSettings settings;
-  settings.meshLoader = meshLoader;
-  return loadHapticScene(path, settings);
-}
+/// Loads a scene file. Throws sdfccd::Error (one line naming the file and the key) on a missing file, bad JSON,
+/// unknown keys, missing or absurd values, or a mesh file this build cannot read. A damaged cache entry is rebuilt
+/// and overwritten.
+HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettings& settings = {});
 
 }  // namespace sdfccd::haptics

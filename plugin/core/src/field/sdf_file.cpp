@@ -1,8 +1,8 @@
 /// @file
 /// @brief Native binary and SDFGen text SDF files: detection, validation, atomic writing.
 ///
-/// @details The checksum is a 64-bit FNV-1a written by hand: sdfccd::core depends on Eigen alone (foundation
-/// issue), so zlib's crc32 is not available, and FNV-1a is a dozen lines with a published specification.
+/// @details The checksum is the project's 64-bit FNV-1a (sdfccd/fnv1a.h): sdfccd::core depends on Eigen alone
+/// (foundation issue), so zlib's crc32 is not available.
 /// Bytes are assembled explicitly as little-endian, so files are portable whatever the host's byte order.
 #include "sdfccd/field/sdf_file.h"
 
@@ -21,6 +21,7 @@
 
 #include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/fnv1a.h"
 
 namespace sdfccd {
 
@@ -32,17 +33,6 @@ constexpr std::uint32_t kValueTypeFloat32 = 1;
 constexpr std::size_t kHeaderBytes = 64;
 constexpr std::size_t kChecksumBytes = 8;
 constexpr std::uint32_t kMaxNodesPerAxis = 1u << 16;  // far above any sane grid; guards the arithmetic
-
-constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
-constexpr std::uint64_t kFnvPrime = 1099511628211ull;
-
-std::uint64_t fnv1a(std::uint64_t hash, const unsigned char* data, std::size_t size) {
-  for (std::size_t n = 0; n < size; ++n) {
-    hash ^= data[n];
-    hash *= kFnvPrime;
-  }
-  return hash;
-}
 
 void putU32(unsigned char* out, std::uint32_t v) {
   for (int b = 0; b < 4; ++b) out[b] = static_cast<unsigned char>(v >> (8 * b));
@@ -83,7 +73,7 @@ void writeNative(const SdfGrid& grid, Sink&& sink) {
   putU32(header + 28, 0);  // reserved
   for (int a = 0; a < 3; ++a) putF64(header + 32 + 8 * a, grid.origin()[a]);
   putF64(header + 56, grid.spacing());
-  std::uint64_t hash = fnv1a(kFnvOffset, header, kHeaderBytes);
+  std::uint64_t hash = fnv1a(header, kHeaderBytes);
   sink(header, kHeaderBytes);
   const std::vector<float>& values = grid.values();
   constexpr std::size_t kChunk = 1 << 14;
@@ -95,7 +85,7 @@ void writeNative(const SdfGrid& grid, Sink&& sink) {
       std::memcpy(&bits, &values[start + n], 4);
       putU32(buffer.data() + 4 * n, bits);
     }
-    hash = fnv1a(hash, buffer.data(), 4 * count);
+    hash = fnv1a(buffer.data(), 4 * count, hash);
     sink(buffer.data(), 4 * count);
   }
   unsigned char tail[kChecksumBytes];
@@ -166,7 +156,7 @@ SdfGrid parseNative(const std::string& bytes, const std::string& name) {
     throw fail(s.str());
   }
   const std::uint64_t stored = getU64(data + expected - kChecksumBytes);
-  const std::uint64_t actual = fnv1a(kFnvOffset, data, expected - kChecksumBytes);
+  const std::uint64_t actual = fnv1a(data, expected - kChecksumBytes);
   if (stored != actual) throw fail("checksum mismatch (the file is corrupt)");
   const Vec3 origin(getF64(data + 32), getF64(data + 40), getF64(data + 48));
   const double spacing = getF64(data + 56);

@@ -12,17 +12,13 @@
 namespace sdfccd {
 
 MassProperties computeMassProperties(const TriangleMesh& mesh, const MassPropertiesSettings& settings) {
-  if (mesh.vertices.empty() || mesh.triangles.empty()) throw Error("mass properties: the mesh is empty");
+  checkMesh(mesh, "mass properties");
   if (!(settings.mass > 0.0) && !(settings.density > 0.0)) {
     throw Error("mass properties: give a positive mass or density (mass " + std::to_string(settings.mass) +
                 ", density " + std::to_string(settings.density) + ")");
   }
   if (!std::isfinite(settings.mass) || !std::isfinite(settings.density)) {
     throw Error("mass properties: mass and density must be finite");
-  }
-  const int vertexCount = static_cast<int>(mesh.vertices.size());
-  for (const Vec3& v : mesh.vertices) {
-    if (!v.allFinite()) throw Error("mass properties: the mesh has a non-finite vertex");
   }
   // Reference point near the mesh: keeps the tetrahedra small and the sums well conditioned for meshes far
   // from the origin.
@@ -38,9 +34,6 @@ MassProperties computeMassProperties(const TriangleMesh& mesh, const MassPropert
   Vec3 firstMoment = Vec3::Zero();
   Mat3 covariance = Mat3::Zero();
   for (const auto& tri : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      if (tri[k] < 0 || tri[k] >= vertexCount) throw Error("mass properties: a triangle index is out of range");
-    }
     Mat3 a;
     a.col(0) = mesh.vertices[tri[0]] - reference;
     a.col(1) = mesh.vertices[tri[1]] - reference;

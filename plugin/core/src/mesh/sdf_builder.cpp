@@ -590,16 +590,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 SdfBuildResult buildSdf(const TriangleMesh& mesh, const SdfBuildSettings& settings) {
   const auto start = std::chrono::steady_clock::now();
-  if (mesh.vertices.empty() || mesh.triangles.empty()) throw Error("cannot build an SDF of an empty mesh");
-  for (const Vec3& v : mesh.vertices) {
-    if (!v.allFinite()) throw Error("cannot build an SDF: the mesh has non-finite vertices");
-  }
-  const int vertexCount = static_cast<int>(mesh.vertices.size());
-  for (const auto& t : mesh.triangles) {
-    for (int c : t) {
-      if (c < 0 || c >= vertexCount) throw Error("cannot build an SDF: a face index is out of range");
-    }
-  }
+  checkMesh(mesh, "cannot build an SDF");
   if (!(settings.windingAccuracy > 1.0) || !std::isfinite(settings.windingAccuracy)) {
     throw Error("winding accuracy (beta) must be finite and > 1");
   }

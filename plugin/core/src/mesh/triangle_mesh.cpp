@@ -167,20 +167,27 @@ int findRoot(std::vector<int>& parent, int x) {
 
 }  // namespace
 
-MeshRepairReport repairMesh(TriangleMesh& ioMesh, const MeshRepairSettings& settings) {
-  MeshRepairReport report;
-  if (ioMesh.vertices.empty() || ioMesh.triangles.empty()) throw Error("mesh is empty (no vertices or no faces)");
-  const int vertexCount = static_cast<int>(ioMesh.vertices.size());
-  for (std::size_t v = 0; v < ioMesh.vertices.size(); ++v) {
-    if (!ioMesh.vertices[v].allFinite()) throw Error("mesh vertex " + std::to_string(v) + " is not finite");
+void checkMesh(const TriangleMesh& mesh, const std::string& who) {
+  if (mesh.vertices.empty() || mesh.triangles.empty())
+    throw Error(who + ": the mesh is empty (no vertices or no faces)");
+  const int vertexCount = static_cast<int>(mesh.vertices.size());
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!mesh.vertices[v].allFinite()) throw Error(who + ": mesh vertex " + std::to_string(v) + " is not finite");
   }
-  for (std::size_t f = 0; f < ioMesh.triangles.size(); ++f) {
-    for (int c : ioMesh.triangles[f]) {
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int c : mesh.triangles[f]) {
       if (c < 0 || c >= vertexCount) {
-        throw Error("mesh face " + std::to_string(f) + " has vertex index " + std::to_string(c) + " out of range");
+        throw Error(who + ": mesh face " + std::to_string(f) + " has vertex index " + std::to_string(c) +
+                    " out of range");
       }
     }
   }
+}
+
+MeshRepairReport repairMesh(TriangleMesh& ioMesh, const MeshRepairSettings& settings) {
+  MeshRepairReport report;
+  checkMesh(ioMesh, "mesh repair");
+  const int vertexCount = static_cast<int>(ioMesh.vertices.size());
   if (!(settings.mergeTolerance >= 0.0) || !std::isfinite(settings.mergeTolerance)) {
     throw Error("merge tolerance must be finite and non-negative");
   }

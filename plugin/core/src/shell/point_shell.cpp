@@ -152,19 +152,6 @@ struct SurfaceIndex {
   }
 };
 
-void checkMesh(const TriangleMesh& mesh, const char* who) {
-  if (mesh.vertices.empty() || mesh.triangles.empty()) throw Error(std::string(who) + ": the mesh is empty");
-  const int count = static_cast<int>(mesh.vertices.size());
-  for (const auto& v : mesh.vertices) {
-    if (!v.allFinite()) throw Error(std::string(who) + ": the mesh has a non-finite vertex");
-  }
-  for (const auto& t : mesh.triangles) {
-    for (int c = 0; c < 3; ++c) {
-      if (t[c] < 0 || t[c] >= count) throw Error(std::string(who) + ": a triangle index is out of range");
-    }
-  }
-}
-
 // ---------------------------------------------------------------------------------------------------------
 // Files
 

@@ -44,7 +44,7 @@ struct BodyFrame {
   Vec3 principalMoments() const { return inertiaInBody.diagonal(); }
 };
 
-/// The body frame rule, the one place it is decided (SdfccdBodyModel and the CLI's run folders both call it):
+/// The body frame rule, the one place it is decided (BodyModel and the CLI's run folders both call it):
 /// origin at the centre of mass; axes along the principal axes of inertia, unless the mesh's own axes already
 /// are principal (off-diagonal inertia under 1e-9 of the trace) — symmetric shapes have ill-defined principal
 /// axes, and a box or a sphere should not come out arbitrarily rotated.

@@ -51,6 +51,11 @@ struct MeshRepairSettings {
   bool orient = true;           ///< make orientation consistent and outward
 };
 
+/// The one validity check every consumer of a mesh runs first (repair, SDF build, mass properties, shells,
+/// mesh files): throws sdfccd::Error "<who>: ..." (one line) if `mesh` has no vertex or no triangle, a
+/// non-finite vertex, or a triangle index out of range.
+void checkMesh(const TriangleMesh& mesh, const std::string& who);
+
 /// Repairs `ioMesh` in place. Throws sdfccd::Error if the mesh is empty or has non-finite coordinates, or
 /// if nothing is left after dropping degenerate faces.
 MeshRepairReport repairMesh(TriangleMesh& ioMesh, const MeshRepairSettings& settings = {});

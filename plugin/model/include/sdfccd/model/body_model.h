@@ -1,10 +1,10 @@
 /// @file
-/// @brief SdfccdBodyModel: everything one rigid body shape needs for point-vs-field CCD (paper Section 5):
+/// @brief BodyModel: everything one rigid body shape needs for point-vs-field CCD (paper Section 5):
 /// the point shell and its tree, the distance field and its octree, mass properties and the mesh.
 ///
 /// @details In the paper's simulations "each bunny carries a pointshell and a signed distance field": every
 /// pair is checked twice, each body in each role. A model is immutable once built and shared through
-/// std::shared_ptr<const SdfccdBodyModel> by any number of shapes and bodies; reading it from many threads is
+/// std::shared_ptr<const BodyModel> by any number of shapes and bodies; reading it from many threads is
 /// safe.
 ///
 /// Frames: the model's *body frame* is the frame Bullet simulates (centre of mass at the origin, axes along
@@ -16,50 +16,51 @@
 /// Uniform scaling is baked in at build time (settings.scale): the field and the shell are built from the
 /// scaled mesh and the cache key includes the scale. The Bullet shape rejects setLocalScaling.
 ///
-/// Cache: buildFromMeshFile() keys an on-disk cache by a 64-bit FNV-1a hash of the mesh file's bytes and the
-/// parameters (resolution, padding, points, scale, format version); the field (native .sdf) and the shell
-/// (.ply) are written atomically, so an interrupted build never leaves a corrupt cache entry.
+/// Cache: buildFromMeshFile() keeps the field and the shell in the model cache (model_cache.h), keyed by the mesh
+/// file's bytes and the parameters (resolution, padding, points, scale, format version).
+///
+/// Bullet-free: the Bullet plugin wraps a model in an SdfccdShape; haptics and the tool use it directly.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include "sdfccd/field/grid_field.h"
-#include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/mesh/mass_properties.h"
+#include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/progress.h"
 #include "sdfccd/shell/point_shell.h"
 #include "sdfccd/shell/point_tree.h"
-#include "sdfccd/progress.h"
-#include "sdfccd/mesh/triangle_mesh.h"
 
 namespace sdfccd {
 
 /// How a model is built from a mesh.
-struct SdfccdBodyModelSettings {
+struct BodyModelSettings {
   int resolution = 128;       ///< SDF cells along the longest side of the mesh's box
   int padding = 4;            ///< SDF cells added around the mesh's box on every side
   int points = 0;             ///< shell points by particle repulsion; 0: the mesh's vertices
   double scale = 1.0;         ///< uniform scale applied to the mesh first (> 0)
   int threads = 0;            ///< worker threads of the builds (0: all cores)
-  std::string cacheDir;       ///< buildFromMeshFile's cache folder; empty: no cache
+  std::string cacheDir;       ///< buildFromMeshFile's model cache folder (model_cache.h); empty: no cache
   ProgressCallback progress;  ///< optional, fraction of the SDF build done
 };
 
-class SdfccdBodyModel {
+class BodyModel {
  public:
   /// Builds a model from a mesh given in model units (scale applied here). Throws sdfccd::Error on a bad mesh
   /// (not closed, zero volume) or bad settings.
-  static std::shared_ptr<const SdfccdBodyModel> buildFromMesh(const TriangleMesh& meshInModel,
-                                                              const SdfccdBodyModelSettings& settings);
-  /// Loads the mesh file (any format sdfccd::io reads) and builds, or loads from the cache when an entry for
+  static std::shared_ptr<const BodyModel> buildFromMesh(const TriangleMesh& meshInModel,
+                                                        const BodyModelSettings& settings);
+  /// Loads the mesh file (loadMeshFile, mesh_file.h) and builds, or loads from the cache when an entry for
   /// the same file content and parameters exists. Throws sdfccd::Error naming the file on failure.
-  static std::shared_ptr<const SdfccdBodyModel> buildFromMeshFile(const std::string& meshPath,
-                                                                  const SdfccdBodyModelSettings& settings);
+  static std::shared_ptr<const BodyModel> buildFromMeshFile(const std::string& meshPath,
+                                                            const BodyModelSettings& settings);
   /// Assembles a model from files: the mesh (for mass properties and rendering), a field (.sdf/.sdfgen) and
   /// a shell (.ply/.csv), all three in the mesh's model frame, scaled by settings.scale. Throws sdfccd::Error.
-  static std::shared_ptr<const SdfccdBodyModel> loadFromFiles(const std::string& meshPath, const std::string& sdfPath,
-                                                              const std::string& shellPath,
-                                                              const SdfccdBodyModelSettings& settings);
+  static std::shared_ptr<const BodyModel> loadFromFiles(const std::string& meshPath, const std::string& sdfPath,
+                                                        const std::string& shellPath,
+                                                        const BodyModelSettings& settings);
 
   const TriangleMesh& meshInBody() const { return m_meshInBody; }
   const PointShell& shell() const { return m_tree.shell(); }  ///< body frame
@@ -76,12 +77,10 @@ class SdfccdBodyModel {
   double cellSize() const { return m_field->spacing(); }  ///< model units
   /// The axis-aligned box of the mesh in the body frame.
   const Box3& boundsInBody() const { return m_boundsInBody; }
-  /// True when the model came from the cache (buildFromMeshFile only).
-  bool fromCache() const { return m_fromCache; }
 
  private:
-  SdfccdBodyModel() = default;
-  static std::shared_ptr<SdfccdBodyModel> assemble(const TriangleMesh& meshInModel, double scale);
+  BodyModel() = default;
+  static std::shared_ptr<BodyModel> assemble(const TriangleMesh& meshInModel, double scale);
 
   TriangleMesh m_meshInBody;
   PointTree m_tree;
@@ -90,10 +89,6 @@ class SdfccdBodyModel {
   Rigid m_modelFromBody = Rigid::Identity();
   Rigid m_bodyFromField = Rigid::Identity();
   Box3 m_boundsInBody;
-  bool m_fromCache = false;
 };
-
-/// 64-bit FNV-1a of `bytes`, continuing from `seed` (stable across platforms; the cache key).
-std::uint64_t fnv1a64(const std::string& bytes, std::uint64_t seed = 14695981039346656037ull);
 
 }  // namespace sdfccd

@@ -1,17 +1,17 @@
 /// @file
-/// @brief SdfccdBodyModel: build, cache and load (see sdfccd_body_model.h).
-#include "sdfccd/bullet/sdfccd_body_model.h"
+/// @brief BodyModel: build, cache and load (see body_model.h).
+#include "sdfccd/model/body_model.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "sdfccd/error.h"
-#include "sdfccd/io/mesh_loader.h"
-#include "sdfccd/mesh/sdf_builder.h"
 #include "sdfccd/field/sdf_file.h"
+#include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/model/mesh_file.h"
+#include "sdfccd/model/model_cache.h"
 
 namespace sdfccd {
 namespace {
@@ -26,14 +26,14 @@ std::string readFileBytes(const std::string& path) {
   return bytes.str();
 }
 
-void checkSettings(const SdfccdBodyModelSettings& settings) {
+void checkSettings(const BodyModelSettings& settings) {
   if (!(settings.scale > 0.0) || !std::isfinite(settings.scale)) {
     throw Error("body model: scale must be positive and finite (got " + std::to_string(settings.scale) + ")");
   }
   if (settings.points < 0) throw Error("body model: points must be >= 0 (0: mesh vertices)");
 }
 
-PointShell makeShell(const TriangleMesh& meshInBody, const SdfccdBodyModelSettings& settings) {
+PointShell makeShell(const TriangleMesh& meshInBody, const BodyModelSettings& settings) {
   if (settings.points == 0) return shellFromVertices(meshInBody);
   ShellSamplingSettings sampling;
   sampling.points = settings.points;
@@ -41,7 +41,7 @@ PointShell makeShell(const TriangleMesh& meshInBody, const SdfccdBodyModelSettin
   return sampleShell(meshInBody, sampling);
 }
 
-std::shared_ptr<const SdfGrid> buildGrid(const TriangleMesh& meshInBody, const SdfccdBodyModelSettings& settings) {
+std::shared_ptr<const SdfGrid> buildGrid(const TriangleMesh& meshInBody, const BodyModelSettings& settings) {
   SdfBuildSettings build;
   build.resolution = settings.resolution;
   build.padding = settings.padding;
@@ -52,18 +52,8 @@ std::shared_ptr<const SdfGrid> buildGrid(const TriangleMesh& meshInBody, const S
 
 }  // namespace
 
-std::uint64_t fnv1a64(const std::string& bytes, std::uint64_t seed) {
-  // Written out because std::hash is neither specified nor stable across library versions.
-  std::uint64_t h = seed;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
-std::shared_ptr<SdfccdBodyModel> SdfccdBodyModel::assemble(const TriangleMesh& meshInModel, double scale) {
-  std::shared_ptr<SdfccdBodyModel> model(new SdfccdBodyModel());
+std::shared_ptr<BodyModel> BodyModel::assemble(const TriangleMesh& meshInModel, double scale) {
+  std::shared_ptr<BodyModel> model(new BodyModel());
   TriangleMesh scaled = meshInModel;
   for (Vec3& v : scaled.vertices) v *= scale;
   MassPropertiesSettings unitDensity;
@@ -87,62 +77,43 @@ std::shared_ptr<SdfccdBodyModel> SdfccdBodyModel::assemble(const TriangleMesh& m
   return model;
 }
 
-std::shared_ptr<const SdfccdBodyModel> SdfccdBodyModel::buildFromMesh(const TriangleMesh& meshInModel,
-                                                                      const SdfccdBodyModelSettings& settings) {
+std::shared_ptr<const BodyModel> BodyModel::buildFromMesh(const TriangleMesh& meshInModel,
+                                                          const BodyModelSettings& settings) {
   checkSettings(settings);
-  std::shared_ptr<SdfccdBodyModel> model = assemble(meshInModel, settings.scale);
+  std::shared_ptr<BodyModel> model = assemble(meshInModel, settings.scale);
   model->m_field = std::make_unique<GridField>(buildGrid(model->m_meshInBody, settings));
   model->m_tree = PointTree(makeShell(model->m_meshInBody, settings));
   return model;
 }
 
-std::shared_ptr<const SdfccdBodyModel> SdfccdBodyModel::buildFromMeshFile(const std::string& meshPath,
-                                                                          const SdfccdBodyModelSettings& settings) {
+std::shared_ptr<const BodyModel> BodyModel::buildFromMeshFile(const std::string& meshPath,
+                                                              const BodyModelSettings& settings) {
   checkSettings(settings);
   const std::string bytes = readFileBytes(meshPath);
-  const TriangleMesh meshInModel = loadMesh(meshPath);
-  if (settings.cacheDir.empty()) return buildFromMesh(meshInModel, settings);
+  const TriangleMesh meshInModel = loadMeshFile(meshPath);
+  const ModelCache cache(settings.cacheDir);
+  if (!cache.enabled()) return buildFromMesh(meshInModel, settings);
 
   std::ostringstream parameters;
   parameters.precision(17);
   parameters << "v" << kCacheVersion << " r" << settings.resolution << " p" << settings.padding << " n"
              << settings.points << " s" << settings.scale;
-  const std::uint64_t key = fnv1a64(parameters.str(), fnv1a64(bytes));
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(key));
-  const std::string stem = std::filesystem::path(meshPath).stem().string();
-  const std::filesystem::path base = std::filesystem::path(settings.cacheDir) / (stem + "-" + hex);
-  const std::string sdfPath = base.string() + ".sdf";
-  const std::string shellPath = base.string() + ".ply";
+  ModelCacheKey key;
+  key.add(bytes).add(parameters.str());
+  const std::string name = std::filesystem::path(meshPath).stem().string();
 
-  std::shared_ptr<SdfccdBodyModel> model = assemble(meshInModel, settings.scale);
-  if (std::filesystem::exists(sdfPath) && std::filesystem::exists(shellPath)) {
-    try {
-      model->m_field = std::make_unique<GridField>(std::make_shared<const SdfGrid>(loadSdf(sdfPath)));
-      model->m_tree = PointTree(loadShell(shellPath));
-      model->m_fromCache = true;
-      return model;
-    } catch (const Error&) {
-      // A damaged cache entry is rebuilt below and overwritten.
-    }
-  }
-  std::error_code ignored;
-  std::filesystem::create_directories(settings.cacheDir, ignored);
-  std::shared_ptr<const SdfGrid> grid = buildGrid(model->m_meshInBody, settings);
-  PointShell shell = makeShell(model->m_meshInBody, settings);
-  saveSdf(sdfPath, *grid, SdfFileFormat::Native);
-  saveShell(shell, shellPath);
-  model->m_field = std::make_unique<GridField>(std::move(grid));
-  model->m_tree = PointTree(std::move(shell));
+  std::shared_ptr<BodyModel> model = assemble(meshInModel, settings.scale);
+  const TriangleMesh& meshInBody = model->m_meshInBody;
+  model->m_field = std::make_unique<GridField>(cache.field(name, key, [&] { return buildGrid(meshInBody, settings); }));
+  model->m_tree = PointTree(cache.shell(name, key, [&] { return makeShell(meshInBody, settings); }));
   return model;
 }
 
-std::shared_ptr<const SdfccdBodyModel> SdfccdBodyModel::loadFromFiles(const std::string& meshPath,
-                                                                      const std::string& sdfPath,
-                                                                      const std::string& shellPath,
-                                                                      const SdfccdBodyModelSettings& settings) {
+std::shared_ptr<const BodyModel> BodyModel::loadFromFiles(const std::string& meshPath, const std::string& sdfPath,
+                                                          const std::string& shellPath,
+                                                          const BodyModelSettings& settings) {
   checkSettings(settings);
-  std::shared_ptr<SdfccdBodyModel> model = assemble(loadMesh(meshPath), settings.scale);
+  std::shared_ptr<BodyModel> model = assemble(loadMeshFile(meshPath), settings.scale);
   const double s = settings.scale;
   SdfGrid loaded = loadSdf(sdfPath);
   std::vector<float> values = loaded.values();

@@ -1,0 +1,31 @@
+/// @file
+/// @brief SceneBody: one body of a scene file (an entry of "bodies"; README "Scene files").
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "sdfccd/math_types.h"
+#include "sdfccd/model/scene_primitive.h"
+
+namespace sdfccd {
+
+struct SceneBody {
+  std::string name;
+  std::string mesh;  ///< resolved path of the mesh file; empty for a primitive
+  std::optional<ScenePrimitive> primitive;
+  std::string sdf;                      ///< optional precomputed field (with "shell"), resolved path
+  std::string shell;                    ///< optional precomputed shell, resolved path
+  double scale = 1.0;                   ///< uniform scale of the mesh
+  double mass = 1.0;                    ///< kg (ignored for static bodies)
+  Vec3 position = Vec3::Zero();         ///< of the centre of mass, world (m)
+  Quat orientation = Quat::Identity();  ///< of the mesh's own axes, world
+  Vec3 velocity = Vec3::Zero();         ///< m/s, of the centre of mass
+  Vec3 angularVelocity = Vec3::Zero();  ///< rad/s, world
+  bool isStatic = false;
+  int points = 0;       ///< shell points (0: mesh vertices)
+  int resolution = 64;  ///< SDF cells along the longest side
+  int padding = 4;      ///< SDF padding cells
+};
+
+}  // namespace sdfccd
