@@ -15,7 +15,7 @@
 ///    point selected last step wins: first one that held the same role (a)..(d), then any. Roles matter: an
 ///    interior point kept for its depth would otherwise lose (a) to a corner of equal depth and drop out. So
 ///    the same points stay across steps and warm starting and contact callbacks stay steady.
-/// A cluster of at most 4 candidates keeps them all. Not thread-safe per call's output; pure otherwise.
+/// A cluster of at most 4 candidates keeps them all. reduceContacts is a pure function (thread-safe).
 #pragma once
 
 #include <array>
