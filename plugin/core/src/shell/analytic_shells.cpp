@@ -36,6 +36,9 @@ void addFibonacci(int count, bool upperHalfOnly, const Vec3& center, double radi
     const Vec3 normal = frame * Vec3(rho * std::cos(angle), rho * std::sin(angle), z);
     out.positions.push_back(center + radius * normal);
     out.normals.push_back(normal);
+    // Point k sits in the middle of the band 1 - 2(k+1)/total < z < 1 - 2k/total: equal-area bands
+    // (Archimedes), so each point stands for 4 pi r^2 / total.
+    out.areas.push_back(4.0 * kPi * radius * radius / total);
   }
 }
 
@@ -63,6 +66,12 @@ PointShell boxShell(const Vec3& halfExtents, const AnalyticShellSettings& settin
     if (double(n[0] + 1) * (n[1] + 1) * (n[2] + 1) - inner <= settings.maxPoints) break;
     spacing *= 1.25;
   }
+  // Each surface point carries its trapezoid-rule share of every face it lies on: the lattice step along the
+  // face's two axes, halved at the face's borders, so each face's shares sum to its area exactly.
+  const Vec3 step(2.0 * halfExtents[0] / n[0], 2.0 * halfExtents[1] / n[1], 2.0 * halfExtents[2] / n[2]);
+  auto share = [&](const Eigen::Vector3i& index, int axis) {
+    return (index[axis] == 0 || index[axis] == n[axis]) ? 0.5 * step[axis] : step[axis];
+  };
   PointShell shell;
   for (int i = 0; i <= n[0]; ++i) {
     for (int j = 0; j <= n[1]; ++j) {
@@ -80,8 +89,13 @@ PointShell boxShell(const Vec3& halfExtents, const AnalyticShellSettings& settin
           if (index[a] == 0) position[a] = -halfExtents[a];
         }
         if (normal.isZero(0.0)) continue;  // an interior lattice point
+        double area = 0.0;
+        for (int a = 0; a < 3; ++a) {
+          if (normal[a] != 0.0) area += share(index, (a + 1) % 3) * share(index, (a + 2) % 3);
+        }
         shell.positions.push_back(position);
         shell.normals.push_back(normal.normalized());
+        shell.areas.push_back(area);
       }
     }
   }
@@ -116,6 +130,9 @@ PointShell capsuleShell(double radius, double halfHeight, int axis, const Analyt
     spacing *= 1.25;
   }
   PointShell shell;
+  // Ring points share the cylinder's area by the trapezoid rule along the axis (the rims get half a step);
+  // the caps' spiral points carry 2 pi r^2 / perCap each (see addFibonacci).
+  const double ringArea = rings > 1 ? 2.0 * kPi * radius / around * 2.0 * halfHeight / (rings - 1) : 0.0;
   const int u = (axis + 1) % 3;
   const int v = (axis + 2) % 3;
   for (int r = 0; r < rings; ++r) {
@@ -129,6 +146,7 @@ PointShell capsuleShell(double radius, double halfHeight, int axis, const Analyt
       position[axis] = along;
       shell.positions.push_back(position);
       shell.normals.push_back(normal);
+      shell.areas.push_back((r == 0 || r == rings - 1) ? 0.5 * ringArea : ringArea);
     }
   }
   // The caps' spirals stop short of their rims (z > 0), which the rings already hold.
@@ -137,6 +155,9 @@ PointShell capsuleShell(double radius, double halfHeight, int axis, const Analyt
     center[axis] = sign * halfHeight;
     addFibonacci(perCap, true, center, radius, frameAlong(axis, sign), shell);
   }
+  // halfHeight = 0: one ring on the equator of a sphere the two half spirals already cover; it has no band of
+  // its own, so the sphere's area is shared evenly by all points instead.
+  if (rings == 1) assignUniformAreas(shell, 4.0 * kPi * radius * radius);
   return shell;
 }
 

@@ -11,6 +11,15 @@
 ///   normal of the face it lies on. Iterations are Jacobi steps (all points move from the old positions), so
 ///   the result does not depend on the thread count.
 /// Shell files: ascii PLY (x y z nx ny nz per vertex) or CSV ("x,y,z,nx,ny,nz" header), chosen by extension.
+///
+/// Point areas (issue 13 design note, Section 2.1: stiffness per unit area, k_i = k_A A_i): every builder fills
+/// `areas`, the surface area each point stands for, summing to the surface's area:
+/// - shellFromVertices(): the barycentric vertex area, 1/3 of the areas of the incident triangles;
+/// - sampleShell(): A_total / N (particle repulsion spreads the points evenly), A_total the usable faces' area;
+/// - boxShell(), sphereShell(), capsuleShell() (analytic_shells.h): exact per-point shares of the closed-form area.
+/// Shell files do not store areas (the formats stay as they are): loadShell()/parseShell() return `areas` empty,
+/// and whoever knows the surface (the body-model builder, with the mesh's TriangleMesh::area()) calls
+/// assignUniformAreas(). An empty `areas` means "unknown"; nothing else reads them yet.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +27,8 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
-#include "sdfccd/progress.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/progress.h"
 
 namespace sdfccd {
 
@@ -27,16 +36,28 @@ namespace sdfccd {
 struct PointShell {
   std::vector<Vec3> positions;  ///< body frame (model units)
   std::vector<Vec3> normals;    ///< unit outward normals, body frame; same count as positions
+  std::vector<double> areas;    ///< surface area per point (model units^2, m^2 in SI scenes); empty: unknown
 
   std::size_t size() const { return positions.size(); }
   bool empty() const { return positions.empty(); }
-  /// Throws sdfccd::Error unless counts match, everything is finite and every normal has unit length (1e-6).
+  /// True when every point has an area (`areas` has one entry per point).
+  bool hasAreas() const { return !positions.empty() && areas.size() == positions.size(); }
+  /// Sum of `areas` (model units^2); 0 when they are unknown.
+  double totalArea() const;
+  /// Throws sdfccd::Error unless counts match, everything is finite and every normal has unit length (1e-6);
+  /// `areas`, if not empty, must have one entry per point, each positive and finite.
   void validate() const;
 };
 
+/// Gives every point the area totalArea / N (model units^2): the rule for evenly sampled shells, and what the
+/// body-model builder calls on a loaded shell with its mesh's TriangleMesh::area(). Throws sdfccd::Error (one
+/// line) on an empty shell or a totalArea that is not positive and finite.
+void assignUniformAreas(PointShell& shell, double totalArea);
+
 /// The mesh's vertices with area-weighted vertex normals (sum of the incident faces' area vectors,
-/// normalized). Vertices used by no face of non-zero area have no normal and are left out. Throws
-/// sdfccd::Error if nothing is left.
+/// normalized) and barycentric areas (1/3 of the incident faces' areas). Vertices whose area vectors sum to
+/// zero have no normal and are left out (with their area: then the areas sum to less than the mesh's area;
+/// on a closed, non-degenerate mesh this never happens). Throws sdfccd::Error if nothing is left.
 PointShell shellFromVertices(const TriangleMesh& mesh);
 
 /// Settings of sampleShell.
@@ -49,18 +70,20 @@ struct ShellSamplingSettings {
   ProgressCallback progress;   ///< optional, called once per iteration
 };
 
-/// N points spread evenly over the mesh surface (see the file comment). Repulsion radius
-/// r = 2 sqrt(area / N). Throws sdfccd::Error on an empty mesh, a mesh of zero area, non-finite vertices
-/// or absurd settings.
+/// N points spread evenly over the mesh surface (see the file comment), each with the area A / N, A the
+/// area of the faces of non-zero area. Repulsion radius r = 2 sqrt(A / N). Throws sdfccd::Error on an empty mesh, a
+/// mesh of zero area, non-finite vertices or absurd settings.
 PointShell sampleShell(const TriangleMesh& mesh, const ShellSamplingSettings& settings = {});
 
-/// Writes the shell as ascii PLY (".ply") or CSV (".csv"), by the extension (case-insensitive), atomically.
+/// Writes the shell as ascii PLY (".ply") or CSV (".csv"), by the extension (case-insensitive), atomically:
+/// positions and normals only (areas are not stored).
 /// Throws sdfccd::Error on another extension, an invalid shell or a write failure.
 void saveShell(const PointShell& shell, const std::string& path);
 
 /// Reads a shell written by saveShell (or any ascii PLY whose vertex element has x y z nx ny nz). Normals
-/// are normalized. Throws sdfccd::Error (one line naming the file and line) on a missing file, another
-/// format, a truncated file, wrong counts, non-numbers, NaN/inf or zero-length normals.
+/// are normalized; `areas` stays empty (see assignUniformAreas). Throws sdfccd::Error (one line naming the file and
+/// line) on a missing file, another format, a truncated file, wrong counts, non-numbers, NaN/inf or zero-length
+/// normals.
 PointShell loadShell(const std::string& path);
 /// loadShell from memory: `text` is a file's content; `name` (a path or file name) picks the format by its
 /// extension and names the input in errors. Same checks, same errors.

@@ -1,0 +1,132 @@
+/// @file
+/// @brief Stick–slip Coulomb anchors per shell point (see friction_anchor.h; issue 13 design note, Section 2.4).
+#include "sdfccd/response/friction_anchor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "sdfccd/error.h"
+
+namespace sdfccd {
+namespace {
+
+void checkNonNegative(double value, const char* name) {
+  if (!(value >= 0.0) || !std::isfinite(value)) {
+    throw Error(std::string("friction: ") + name + " must be non-negative and finite");
+  }
+}
+
+Vec3 tangentialPart(const Vec3& v, const Vec3& normal) {
+  return v - normal * normal.dot(v);
+}
+
+}  // namespace
+
+void FrictionSettings::validate() const {
+  checkNonNegative(friction, "friction (mu)");
+  checkNonNegative(tangentialStiffness, "tangentialStiffness");
+  checkNonNegative(tangentialDamping, "tangentialDamping");
+}
+
+TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
+                                const Vec3& relativeVelocityInWorld, double normalForce,
+                                const FrictionSettings& settings) {
+  TangentialForce out;
+  out.stretch = tangentialPart(pointInWorld - anchorInWorld, normalInWorld);
+  out.force = -settings.tangentialStiffness * out.stretch -
+              settings.tangentialDamping * tangentialPart(relativeVelocityInWorld, normalInWorld);
+  const double cap = settings.friction * std::max(normalForce, 0.0);
+  const double magnitude = out.force.norm();
+  if (magnitude > cap) {
+    out.force *= cap / magnitude;
+    out.state = FrictionState::Slip;
+  }
+  return out;
+}
+
+AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
+                      double normalForce, const FrictionSettings& settings) {
+  AnchorSlip out;
+  out.anchorInField = anchorInField;
+  const Vec3 stretch = tangentialPart(pointInField - anchorInField, normalInField);
+  const double length = stretch.norm();
+  const double elastic = settings.tangentialStiffness * length;
+  const double cap = settings.friction * std::max(normalForce, 0.0);
+  if (!(elastic > cap) && settings.tangentialStiffness > 0.0) return out;
+  if (!(length > 0.0)) return out;  // no stretch: nothing to drag (also k_t = 0 with the point on its anchor)
+  // k_t = 0: the stretch carries no force, so the anchor follows the point (it holds nothing).
+  const double keep = settings.tangentialStiffness > 0.0 ? cap / elastic : 0.0;
+  out.anchorInField = anchorInField + (1.0 - keep) * stretch;
+  out.state = FrictionState::Slip;
+  return out;
+}
+
+AnchorMatchResult FrictionAnchorTable::match(const std::vector<AnchorContact>& contacts) {
+  beginMatch();
+  for (const AnchorContact& contact : contacts) matchNext(contact.point, contact.entryInField);
+  return endMatch();
+}
+
+void FrictionAnchorTable::beginMatch() {
+  std::swap(m_previous, m_anchors);
+  m_anchors.clear();
+  m_cursor = 0;
+  m_counts = AnchorMatchResult{};
+  m_matching = true;
+}
+
+std::size_t FrictionAnchorTable::matchNext(int point, const Vec3& entryInField) {
+  if (!m_matching) throw Error("FrictionAnchorTable::matchNext: call beginMatch() first");
+  if (point < 0 || (!m_anchors.empty() && point <= m_anchors.back().point)) {
+    throw Error("FrictionAnchorTable: contacts must be sorted by strictly increasing point index (got " +
+                std::to_string(point) + ")");
+  }
+  // Last step's anchors below `point` are no longer in contact.
+  while (m_cursor < m_previous.size() && m_previous[m_cursor].point < point) {
+    ++m_cursor;
+    ++m_counts.dropped;
+  }
+  if (m_cursor < m_previous.size() && m_previous[m_cursor].point == point) {
+    m_anchors.push_back(m_previous[m_cursor++]);
+    ++m_counts.kept;
+  } else {
+    m_anchors.push_back(FrictionAnchor{point, entryInField});
+    ++m_counts.created;
+  }
+  return m_anchors.size() - 1;
+}
+
+AnchorMatchResult FrictionAnchorTable::endMatch() {
+  if (!m_matching) throw Error("FrictionAnchorTable::endMatch: call beginMatch() first");
+  m_counts.dropped += static_cast<int>(m_previous.size() - m_cursor);
+  m_previous.clear();
+  m_cursor = 0;
+  m_matching = false;
+  return m_counts;
+}
+
+FrictionState FrictionAnchorTable::updateAnchor(std::size_t index, const Vec3& pointInField, const Vec3& normalInField,
+                                                double normalForce, const FrictionSettings& settings) {
+  if (index >= m_anchors.size()) throw Error("FrictionAnchorTable::updateAnchor: index out of range");
+  FrictionAnchor& anchor = m_anchors[index];
+  const AnchorSlip slip = slipAnchor(pointInField, anchor.anchorInField, normalInField, normalForce, settings);
+  anchor.anchorInField = slip.anchorInField;
+  return slip.state;
+}
+
+const FrictionAnchor* FrictionAnchorTable::find(int point) const {
+  const auto it = std::lower_bound(m_anchors.begin(), m_anchors.end(), point,
+                                   [](const FrictionAnchor& a, int p) { return a.point < p; });
+  return (it != m_anchors.end() && it->point == point) ? &*it : nullptr;
+}
+
+void FrictionAnchorTable::clear() {
+  m_anchors.clear();
+  m_previous.clear();
+  m_cursor = 0;
+  m_matching = false;
+}
+
+}  // namespace sdfccd
