@@ -10,11 +10,11 @@
 
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/sdf_file.h"
 #include "sdfccd/io/mesh_loader.h"
 #include "sdfccd/mesh/sdf_builder.h"
-#include "sdfccd/field/sdf_file.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -55,7 +55,7 @@ int runBuildSdf(const BuildSdfOptions& o) {
   settings.signMethod = parseSign(o.sign);
   settings.maxMemoryBytes = static_cast<std::size_t>(maxMemoryMiB * 1024.0 * 1024.0);
 
-  { AtomicFile probe(o.output); }  // fails now, not after the build, if the output cannot be written
+  checkOutput(o.output, {o.mesh});  // `-o MESH` and an unwritable output fail now, not after the build
   MeshRepairReport repairs;
   const TriangleMesh mesh = loadMesh(o.mesh, &repairs);
   // Checks the parameters and the memory before any heavy work.

@@ -15,9 +15,9 @@
 #include <string>
 
 #include "cli/command_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/output_file.h"
 #if __has_include("sdfccd/io/mesh_loader.h")
 #include "sdfccd/io/mesh_loader.h"
 #define SDFCCD_HAPTICS_HAS_IO 1
@@ -67,7 +67,7 @@ int runHaptics(const HapticsOptions& o) {
   const std::string summary = haptics::summaryJson(result.summary);
   if (!o.out.empty()) {
     haptics::writeTickCsv(o.out + "/ticks.csv", result.ticks);
-    writeFileAtomically(o.out + "/summary.json", summary);
+    writeOutputFile(o.out + "/summary.json", summary);
   }
   std::fwrite(summary.data(), 1, summary.size(), stdout);
   std::fflush(stdout);

@@ -16,8 +16,8 @@
 #include "cli/progress_bar.h"
 #include "cli/run_folder.h"
 #include "cli/run_frame_renderer.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 #if SDFCCD_HAS_RENDER
 #include "sdfccd/render/contact_sheet.h"
@@ -94,7 +94,7 @@ std::string writeVideo(const std::vector<std::string>& framePaths, double frames
   std::snprintf(duration, sizeof(duration), "duration %.6f\n", 1.0 / framesPerSecond);
   for (const std::string& path : framePaths) list += "file '" + fs::absolute(path).string() + "'\n" + duration;
   if (!framePaths.empty()) list += "file '" + fs::absolute(framePaths.back()).string() + "'\n";
-  writeFileAtomically(listPath, list);
+  writeOutputFile(listPath, list);
   const std::string temporary = videoPath + ".tmp.mp4";
   const ProgramRun run = runProgram({*ffmpeg, "-y", "-loglevel", "error", "-f", "concat", "-safe", "0", "-i", listPath,
                                      "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2,fps=" + std::to_string(framesPerSecond),

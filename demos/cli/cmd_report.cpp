@@ -27,8 +27,8 @@
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/parallel_for.h"
 
 #ifndef SDFCCD_BUILD_TYPE
@@ -192,7 +192,7 @@ int runReport(const ReportOptions& o) {
   }
   {
     // A folder we cannot write into fails now, not after minutes of work.
-    AtomicFile probe((outDir / ".write-probe").string());
+    OutputFile probe((outDir / ".write-probe").string());
     probe.stream() << "probe\n";
   }
 
@@ -257,8 +257,8 @@ int runReport(const ReportOptions& o) {
     if (s.failed) entry["error"] = s.error;
     json["sections"].push_back(entry);
   }
-  writeFileAtomically((outDir / "report.json").string(), json.dump(2) + "\n");
-  writeFileAtomically((outDir / "report.md").string(), md.str());
+  writeOutputFile((outDir / "report.json").string(), json.dump(2) + "\n");
+  writeOutputFile((outDir / "report.md").string(), md.str());
   std::printf("wrote %s (%zu sections, %d not ok, %d failed, %.1f s)\n", (outDir / "report.md").string().c_str(),
               outcomes.size(), notOk, failed, totalSeconds);
   if (failed > 0) {

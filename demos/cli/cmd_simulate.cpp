@@ -21,9 +21,9 @@
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
 #include "cli/run_frame_renderer.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -89,7 +89,7 @@ int runSimulate(const SimulateOptions& o) {
   }
   const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
-  AtomicFile csv(outDir + "/frames.csv");
+  OutputFile csv(outDir + "/frames.csv");
   std::ostream& out = csv.stream();
   out << std::setprecision(9);
   out << "frame,time";
@@ -149,7 +149,7 @@ int runSimulate(const SimulateOptions& o) {
     std::ifstream sceneFile(o.scene, std::ios::binary);
     std::ostringstream sceneText;
     sceneText << sceneFile.rdbuf();
-    writeFileAtomically(outDir + "/scene.json", sceneText.str());
+    writeOutputFile(outDir + "/scene.json", sceneText.str());
   }
 
   const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
@@ -175,7 +175,7 @@ int runSimulate(const SimulateOptions& o) {
   summary["nan_detected"] = nan;
   summary["final_kinetic_energy"] = nan ? 0.0 : world->kineticEnergy();
   summary["result_hash"] = hex(world->stateHash());
-  writeFileAtomically(outDir + "/summary.json", summary.dump(2) + "\n");
+  writeOutputFile(outDir + "/summary.json", summary.dump(2) + "\n");
 
   std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", scene.name.c_str(), done, world->timestep(),
               world->bodyCount(), summary["model"].get<std::string>().c_str(), scene.effectList().c_str());

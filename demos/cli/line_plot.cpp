@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "cli/external_program.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 
@@ -31,7 +31,7 @@ std::string gnuplotQuoted(const std::string& text) {
 std::string gnuplotPngTerminal(const std::string& gnuplot, int width, int height, const fs::path& scratchDir) {
   const std::string probe = (scratchDir / ".probe.gp").string();
   const std::string log = (scratchDir / ".probe.log").string();
-  writeFileAtomically(probe, "set terminal pngcairo\n");
+  writeOutputFile(probe, "set terminal pngcairo\n");
   const ProgramRun run = runProgram({gnuplot, probe}, log);
   std::error_code ignored;
   fs::remove(probe, ignored);
@@ -117,7 +117,7 @@ void writeLinePlot(const LinePlot& plot, const fs::path& pngPath) {
   }
   fs::path dataPath = pngPath;
   dataPath.replace_extension(".dat");
-  writeFileAtomically(dataPath.string(), data.str());
+  writeOutputFile(dataPath.string(), data.str());
 
   const std::string temporary = pngPath.string() + ".tmp-gnuplot";
   std::ostringstream script;
@@ -158,7 +158,7 @@ void writeLinePlot(const LinePlot& plot, const fs::path& pngPath) {
   script << "\nunset output\n";
   fs::path scriptPath = pngPath;
   scriptPath.replace_extension(".gp");
-  writeFileAtomically(scriptPath.string(), script.str());
+  writeOutputFile(scriptPath.string(), script.str());
 
   fs::path logPath = pngPath;
   logPath.replace_extension(".gnuplot.log");

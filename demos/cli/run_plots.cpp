@@ -8,8 +8,8 @@
 
 #include "cli/external_program.h"
 #include "cli/line_plot.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 
@@ -75,7 +75,7 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
     data << '\n';
   }
   const std::string dataPath = (fs::path(dir) / "series.dat").string();
-  writeFileAtomically(dataPath, data.str());
+  writeOutputFile(dataPath, data.str());
 
   const std::string terminal = gnuplotPngTerminal(*gnuplot, settings.width, settings.height, dir);
   std::ostringstream script;
@@ -118,7 +118,7 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
   script << "unset multiplot\nunset output\n";
   renames.emplace_back(overview + ".tmp-gnuplot", overview);
   const std::string scriptPath = (fs::path(dir) / "plots.gp").string();
-  writeFileAtomically(scriptPath, script.str());
+  writeOutputFile(scriptPath, script.str());
 
   const ProgramRun run = runProgram({*gnuplot, scriptPath}, (fs::path(dir) / "gnuplot.log").string());
   if (run.exitCode != 0) {

@@ -26,8 +26,8 @@
 #include "cli/report_registry.h"
 #include "cli/thread_cpu_time.h"
 #include "sdfccd/field/analytic_fields.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/response/penalty_model.h"
 
 namespace sdfccd::cli {
@@ -352,7 +352,7 @@ ReportSection runIntegrationSection(const ReportContext& context) {
     }
   }
 
-  writeFileAtomically((context.outDir / "integration_errors.csv").string(), csv.str());
+  writeOutputFile((context.outDir / "integration_errors.csv").string(), csv.str());
   PlotSeries parabola{"1/(2 N^2): a parabolic depth profile (grazing)", {}, {}};
   for (int n = 1; n <= kMaxSubintervals; ++n) {
     parabola.x.push_back(n);

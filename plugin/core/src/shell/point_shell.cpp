@@ -14,8 +14,8 @@
 #include <unordered_map>
 #include <utility>
 
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/parallel_for.h"
 
 namespace sdfccd {
@@ -526,7 +526,7 @@ void saveShell(const PointShell& shell, const std::string& path) {
   if (shell.empty()) throw Error("saveShell: the shell has no points");
   const std::string ext = lowerExtension(path);
   if (ext != "ply" && ext != "csv") throw Error(path + ": unknown shell format (use .ply or .csv)");
-  AtomicFile file(path);
+  OutputFile file(path);
   auto& out = file.stream();
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   if (ext == "ply") {
