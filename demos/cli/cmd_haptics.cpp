@@ -12,12 +12,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/command_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
 #include "sdfccd/output_file.h"
+#include "sdfccd/output_folder.h"
 #if __has_include("sdfccd/io/mesh_loader.h")
 #include "sdfccd/io/mesh_loader.h"
 #define SDFCCD_HAPTICS_HAS_IO 1
@@ -58,16 +60,18 @@ int runHaptics(const HapticsOptions& o) {
   load.meshLoader = sceneMeshLoader();
   load.cacheDir = o.cache;
   const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, load);
+  std::optional<OutputFolder> outFolder;  // removed again if the session fails and it was made for it
   if (!o.out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.out, ec);
-    if (ec || !std::filesystem::is_directory(o.out)) throw Error("cannot create output folder '" + o.out + "'");
+    outFolder.emplace(o.out);
+    checkOutput(o.out + "/ticks.csv", {o.scene});
+    checkOutput(o.out + "/summary.json", {o.scene});
   }
   const haptics::HapticSessionResult result = haptics::runHapticSession(scene, settings);
   const std::string summary = haptics::summaryJson(result.summary);
-  if (!o.out.empty()) {
+  if (outFolder) {
     haptics::writeTickCsv(o.out + "/ticks.csv", result.ticks);
     writeOutputFile(o.out + "/summary.json", summary);
+    outFolder->keep();
   }
   std::fwrite(summary.data(), 1, summary.size(), stdout);
   std::fflush(stdout);
