@@ -38,10 +38,10 @@
 #include "bench/gimpact_peer.h"
 #include "bench/penetration_probe.h"
 #include "cli/bench_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
 #include "sdfccd/thread_cpu_time.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -304,7 +304,7 @@ int runBenchBullet(const BenchBulletOptions& o) {
   if (o.part == "all" || o.part == "fig10a") runFig10a(o);
   if (o.part == "all" || o.part == "peer") runPeer(o);
   if (!o.csv.empty()) {
-    writeFileAtomically(o.csv, g_csv.str());
+    writeOutputFile(o.csv, g_csv.str());
     std::printf("wrote %s\n", o.csv.c_str());
   }
   return 0;

@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "cli/bench_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/output_file.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"
@@ -130,7 +130,7 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
                   r.s.simCycleCpuP99Ms < 1.0 ? (r.s.simCycleP99Ms < 1.0 ? "met" : "met in CPU time") : "missed");
   }
   if (!o.csv.empty()) {
-    AtomicFile file(o.csv);
+    OutputFile file(o.csv);
     file.stream() << "scene,method,points,sim_cycle_p50_ms,sim_cycle_p99_ms,sim_cycle_max_ms,sim_cycle_cpu_p50_ms,"
                      "sim_cycle_cpu_p99_ms,max_contacts,mean_contacts,inserted,max_penetration_cells,"
                      "stuck_cycles,paper_target_p99_ms,load_average,machine\n";

@@ -29,10 +29,13 @@
 
 #include "cli/bench_registry.h"
 #include "cli/progress_bar.h"
-#include "sdfccd/atomic_file.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/io/mesh_loader.h"
+#include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/shell/point_shell.h"
 #include "sdfccd/shell/point_tree.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -377,7 +380,7 @@ int runBenchTree(const BenchTreeOptions& o) {
   }
   std::printf(")\n");
   if (!o.csv.empty()) {
-    AtomicFile file(o.csv);
+    OutputFile file(o.csv);
     file.stream() << "model,points,configs,linear_s,tree_s,speedup,query,linear_cut_s,paper_linear_s,paper_tree_s\n";
     for (const Row& r : rows) {
       file.stream() << r.model << ',' << r.points << ',' << configs << ',' << r.linear << ',' << r.tree << ','

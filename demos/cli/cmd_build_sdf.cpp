@@ -10,11 +10,11 @@
 
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/sdf_file.h"
 #include "sdfccd/io/mesh_loader.h"
 #include "sdfccd/mesh/sdf_builder.h"
-#include "sdfccd/field/sdf_file.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -55,7 +55,8 @@ int runBuildSdf(const BuildSdfOptions& o) {
   settings.signMethod = parseSign(o.sign);
   settings.maxMemoryBytes = static_cast<std::size_t>(maxMemoryMiB * 1024.0 * 1024.0);
 
-  { AtomicFile probe(o.output); }  // fails now, not after the build, if the output cannot be written
+  // `-o MESH` and an output that cannot be written fail now, not after the build.
+  checkOutput(o.output, {o.mesh});
   MeshRepairReport repairs;
   const TriangleMesh mesh = loadMesh(o.mesh, &repairs);
   // Checks the parameters and the memory before any heavy work.
@@ -69,23 +70,24 @@ int runBuildSdf(const BuildSdfOptions& o) {
   }
   saveSdf(o.output, *result.grid, format);
 
+  FILE* report = o.output == "-" ? stderr : stdout;  // `-o -`: the field alone on stdout
   const SdfGrid& grid = *result.grid;
   const SdfBuildStats& s = result.stats;
-  std::printf("mesh:        %s (%zu vertices, %zu triangles)\n", o.mesh.c_str(), mesh.vertices.size(),
-              mesh.triangles.size());
-  std::printf("repairs:     %s\n", repairs.summary().c_str());
-  std::printf("dimensions:  %d x %d x %d nodes (resolution %d, padding %d)\n", grid.nodeCounts().x(),
-              grid.nodeCounts().y(), grid.nodeCounts().z(), o.resolution, o.padding);
-  std::printf("spacing:     %.9g\n", grid.spacing());
-  std::printf("box:         [%.9g %.9g %.9g] - [%.9g %.9g %.9g]\n", grid.box().min().x(), grid.box().min().y(),
-              grid.box().min().z(), grid.box().max().x(), grid.box().max().y(), grid.box().max().z());
-  std::printf("values:      %.9g .. %.9g\n", grid.minValue(), grid.maxValue());
-  std::printf("sign method: %s\n", toString(s.signMethod));
-  std::printf("build time:  %.3f s (distances %.3f s, sign %.3f s, %d threads)\n", s.seconds, s.distanceSeconds,
-              s.signSeconds, s.threads);
-  std::printf("memory:      %.1f MiB grid values, %.1f MiB temporary\n", s.gridBytes / (1024.0 * 1024.0),
-              s.peakExtraBytes / (1024.0 * 1024.0));
-  std::printf("output:      %s (%s)\n", o.output.c_str(), toString(format));
+  std::fprintf(report, "mesh:        %s (%zu vertices, %zu triangles)\n", o.mesh.c_str(), mesh.vertices.size(),
+               mesh.triangles.size());
+  std::fprintf(report, "repairs:     %s\n", repairs.summary().c_str());
+  std::fprintf(report, "dimensions:  %d x %d x %d nodes (resolution %d, padding %d)\n", grid.nodeCounts().x(),
+               grid.nodeCounts().y(), grid.nodeCounts().z(), o.resolution, o.padding);
+  std::fprintf(report, "spacing:     %.9g\n", grid.spacing());
+  std::fprintf(report, "box:         [%.9g %.9g %.9g] - [%.9g %.9g %.9g]\n", grid.box().min().x(), grid.box().min().y(),
+               grid.box().min().z(), grid.box().max().x(), grid.box().max().y(), grid.box().max().z());
+  std::fprintf(report, "values:      %.9g .. %.9g\n", grid.minValue(), grid.maxValue());
+  std::fprintf(report, "sign method: %s\n", toString(s.signMethod));
+  std::fprintf(report, "build time:  %.3f s (distances %.3f s, sign %.3f s, %d threads)\n", s.seconds,
+               s.distanceSeconds, s.signSeconds, s.threads);
+  std::fprintf(report, "memory:      %.1f MiB grid values, %.1f MiB temporary\n", s.gridBytes / (1024.0 * 1024.0),
+               s.peakExtraBytes / (1024.0 * 1024.0));
+  std::fprintf(report, "output:      %s (%s)\n", o.output.c_str(), toString(format));
   return 0;
 }
 
@@ -93,7 +95,8 @@ const CommandRegistrar registrar("build-sdf", [](CLI::App& app) {
   auto o = std::make_shared<BuildSdfOptions>();
   CLI::App* cmd = app.add_subcommand("build-sdf", "Build the exact signed distance field of a mesh");
   cmd->add_option("mesh", o->mesh, "Input mesh (OBJ, OFF, PLY, STL, glTF, ... through assimp)")->required();
-  cmd->add_option("-o,--output", o->output, "Output field (.sdfgen: SDFGen text; otherwise native)")->required();
+  cmd->add_option("-o,--output", o->output, "Output field (.sdfgen: SDFGen text; otherwise native; - for stdout)")
+      ->required();
   cmd->add_option("-r,--resolution", o->resolution, "Cells along the longest side of the mesh's box (1..4096)")
       ->required();
   cmd->add_option("-p,--padding", o->padding, "Extra cells around the mesh's box (default 4)");

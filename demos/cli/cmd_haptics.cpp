@@ -12,12 +12,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/command_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/output_file.h"
+#include "sdfccd/output_folder.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -45,16 +47,18 @@ int runHaptics(const HapticsOptions& o) {
   haptics::HapticSceneLoadSettings load;
   load.cacheDir = o.cache;
   const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, load);
+  std::optional<OutputFolder> outFolder;  // removed again if the session fails and it was made for it
   if (!o.out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.out, ec);
-    if (ec || !std::filesystem::is_directory(o.out)) throw Error("cannot create output folder '" + o.out + "'");
+    outFolder.emplace(o.out);
+    checkOutput(o.out + "/ticks.csv", {o.scene});
+    checkOutput(o.out + "/summary.json", {o.scene});
   }
   const haptics::HapticSessionResult result = haptics::runHapticSession(scene, settings);
   const std::string summary = haptics::summaryJson(result.summary);
-  if (!o.out.empty()) {
+  if (outFolder) {
     haptics::writeTickCsv(o.out + "/ticks.csv", result.ticks);
-    writeFileAtomically(o.out + "/summary.json", summary);
+    writeOutputFile(o.out + "/summary.json", summary);
+    outFolder->keep();
   }
   std::fwrite(summary.data(), 1, summary.size(), stdout);
   std::fflush(stdout);

@@ -16,8 +16,9 @@
 #include "cli/progress_bar.h"
 #include "cli/run_folder.h"
 #include "cli/run_frame_renderer.h"
-#include "sdfccd/atomic_file.h"
+#include "cli/scratch_folder.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 #if SDFCCD_HAS_RENDER
 #include "sdfccd/render/contact_sheet.h"
@@ -87,28 +88,32 @@ std::string writeVideo(const std::vector<std::string>& framePaths, double frames
                        const std::string& videoPath) {
   const std::optional<std::string> ffmpeg = findProgram("ffmpeg");
   if (!ffmpeg) return "no MP4: ffmpeg is not installed (Debian: apt-get install ffmpeg)";
-  // The concat list names exactly the frames of this render (older frames in the folder are left out).
-  const std::string listPath = videoPath + ".frames.txt";
+  // ffmpeg writes in a private scratch folder (it opens its output by name, following links); the video then
+  // goes to its place through OutputFile. The concat list names exactly the frames of this render (older
+  // frames in the folder are left out).
+  ScratchFolder scratch;
+  const std::string listPath = scratch.file("frames.txt");
   std::string list = "ffconcat version 1.0\n";
   char duration[64];
   std::snprintf(duration, sizeof(duration), "duration %.6f\n", 1.0 / framesPerSecond);
   for (const std::string& path : framePaths) list += "file '" + fs::absolute(path).string() + "'\n" + duration;
   if (!framePaths.empty()) list += "file '" + fs::absolute(framePaths.back()).string() + "'\n";
-  writeFileAtomically(listPath, list);
-  const std::string temporary = videoPath + ".tmp.mp4";
+  writeOutputFile(listPath, list);
+  const std::string temporary = scratch.file("frames.mp4");
   const ProgramRun run = runProgram({*ffmpeg, "-y", "-loglevel", "error", "-f", "concat", "-safe", "0", "-i", listPath,
                                      "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2,fps=" + std::to_string(framesPerSecond),
                                      "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", temporary},
-                                    videoPath + ".log");
-  fs::remove(listPath);
+                                    scratch.file("ffmpeg.log"));
   if (run.exitCode != 0) {
     // The video is optional: the frames and the sheet are written, so a failing ffmpeg is a warning only.
-    fs::remove(temporary);
+    try {
+      moveToOutput(scratch.file("ffmpeg.log"), videoPath + ".log");
+    } catch (const Error&) {
+    }
     return "warning: no MP4: ffmpeg failed (exit " + std::to_string(run.exitCode) + "): " + run.logTail +
            " (log: " + videoPath + ".log)";
   }
-  fs::rename(temporary, videoPath);
-  fs::remove(videoPath + ".log");
+  moveToOutput(temporary, videoPath);
   return "video: " + videoPath;
 }
 

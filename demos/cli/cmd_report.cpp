@@ -27,8 +27,9 @@
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
+#include "sdfccd/output_folder.h"
 #include "sdfccd/parallel_for.h"
 
 #ifndef SDFCCD_BUILD_TYPE
@@ -185,16 +186,10 @@ int runReport(const ReportOptions& o) {
   const fs::path assets = findAssets(o.assets);
   if (o.out.empty()) throw Error("--out must name a folder");
   const fs::path outDir(o.out);
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (ec || !fs::is_directory(outDir)) {
-    throw Error("cannot create the output folder '" + o.out + "'" + (ec ? ": " + ec.message() : ""));
-  }
-  {
-    // A folder we cannot write into fails now, not after minutes of work.
-    AtomicFile probe((outDir / ".write-probe").string());
-    probe.stream() << "probe\n";
-  }
+  OutputFolder outFolder(o.out);  // removed again if the report fails and it was made for it
+  // A folder we cannot write into fails now, not after minutes of work.
+  checkOutput((outDir / "report.md").string());
+  checkOutput((outDir / "report.json").string());
 
   ReportContext context;
   context.outDir = outDir;
@@ -257,8 +252,9 @@ int runReport(const ReportOptions& o) {
     if (s.failed) entry["error"] = s.error;
     json["sections"].push_back(entry);
   }
-  writeFileAtomically((outDir / "report.json").string(), json.dump(2) + "\n");
-  writeFileAtomically((outDir / "report.md").string(), md.str());
+  writeOutputFile((outDir / "report.json").string(), json.dump(2) + "\n");
+  writeOutputFile((outDir / "report.md").string(), md.str());
+  outFolder.keep();
   std::printf("wrote %s (%zu sections, %d not ok, %d failed, %.1f s)\n", (outDir / "report.md").string().c_str(),
               outcomes.size(), notOk, failed, totalSeconds);
   if (failed > 0) {

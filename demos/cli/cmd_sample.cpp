@@ -9,9 +9,9 @@
 
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd::cli {
@@ -31,7 +31,7 @@ int runSample(const SampleOptions& o) {
   if (o.vertices == (o.points > 0)) throw Error("give either --points N (N >= 1) or --vertices");
   if (o.points < 0 || o.points > 100000000) throw Error("--points must be in 1..100000000");
   if (o.threads < 0 || o.threads > 1024) throw Error("--threads must be in 0..1024");
-  { AtomicFile probe(o.output); }  // an unwritable output fails now, not after the sampling
+  checkOutput(o.output, {o.mesh});  // `-o MESH` and an unwritable output fail now, not after the sampling
   MeshRepairReport repairs;
   const TriangleMesh mesh = loadMesh(o.mesh, &repairs);
   const auto start = std::chrono::steady_clock::now();

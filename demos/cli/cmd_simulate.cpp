@@ -2,7 +2,9 @@
 /// @brief `sdfccd simulate SCENE [--frames N] [--out DIR]`: runs a scene headless in Bullet with the
 /// continuous penalty contact of Section 4.1 (or the discrete baseline), writing a run folder: frames.csv
 /// (wide layout: one row per frame, `<body>.px` ... `<body>.wz` at the centre of mass, then contacts,
-/// penetration in cells, kinetic_energy in J, ccd_seconds, step_seconds, clamps), summary.json and scene.json.
+/// penetration in cells, kinetic_energy in J, ccd_seconds, step_seconds, clamps; body names quoted as CSV
+/// fields when they need it; every K-th frame with --record-every K), summary.json and scene.json. A run that
+/// fails or is interrupted leaves no temporary file and no run folder it created empty.
 #if __has_include("sdfccd/bullet/scene_world.h")
 
 #include <btBulletDynamicsCommon.h>
@@ -19,11 +21,13 @@
 #include <sstream>
 
 #include "cli/command_registry.h"
+#include "cli/csv_fields.h"
 #include "cli/progress_bar.h"
 #include "cli/run_frame_renderer.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
+#include "sdfccd/output_folder.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -31,6 +35,7 @@ namespace {
 struct SimulateOptions {
   std::string scene;
   int frames = 0;  // 0: the scene's
+  int recordEvery = 1;
   std::string out;
   std::string cache = "out/cache";
   std::string model;
@@ -54,9 +59,22 @@ int runSimulate(const SimulateOptions& o) {
   const auto wallStart = std::chrono::steady_clock::now();
   const Scene scene = loadScene(o.scene);
   if (o.frames < 0) throw Error("--frames must be >= 0");
+  if (o.recordEvery < 1) throw Error("--record-every must be at least 1");
   const int frames = o.frames > 0 ? o.frames : scene.frames;
+  // The run folder's copy of the scene is the text that ran (read now: the file may be the run folder's own
+  // scene.json, which is then rewritten with the same text).
+  std::string sceneText;
+  {
+    std::ifstream sceneFile(o.scene, std::ios::binary);
+    std::ostringstream text;
+    text << sceneFile.rdbuf();
+    sceneText = text.str();
+  }
   const std::string outDir = o.out.empty() ? "out/simulate/" + scene.name : o.out;
-  std::filesystem::create_directories(outDir);
+  OutputFolder runFolder(outDir);
+  // Outputs that are the scene, or cannot be written, fail now, not after the build and the run.
+  checkOutput(outDir + "/frames.csv", {o.scene});
+  checkOutput(outDir + "/summary.json", {o.scene});
 
   SceneWorldSettings settings;
   settings.cacheDir = o.cache;
@@ -89,14 +107,14 @@ int runSimulate(const SimulateOptions& o) {
   }
   const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
-  AtomicFile csv(outDir + "/frames.csv");
+  OutputFile csv(outDir + "/frames.csv");
   std::ostream& out = csv.stream();
   out << std::setprecision(9);
   out << "frame,time";
   for (int i = 0; i < world->bodyCount(); ++i) {
     const std::string& n = world->bodyName(i);
     for (const char* c : {"px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz"}) {
-      out << "," << n << "." << c;
+      out << "," << csvField(n + "." + c);
     }
   }
   out << ",contacts,penetration,kinetic_energy,ccd_seconds,step_seconds,clamps\n";
@@ -119,24 +137,29 @@ int runSimulate(const SimulateOptions& o) {
 
   bool nan = false;
   int done = 0;
+  auto recordFrame = [&] {
+    out << done << "," << world->time();
+    for (int i = 0; i < world->bodyCount(); ++i) {
+      const SceneBodyState s = world->bodyState(i);
+      out << "," << s.position.x() << "," << s.position.y() << "," << s.position.z() << "," << s.orientation.w() << ","
+          << s.orientation.x() << "," << s.orientation.y() << "," << s.orientation.z() << "," << s.linearVelocity.x()
+          << "," << s.linearVelocity.y() << "," << s.linearVelocity.z() << "," << s.angularVelocity.x() << ","
+          << s.angularVelocity.y() << "," << s.angularVelocity.z();
+    }
+    const SceneFrameStats& last = world->lastFrame();
+    out << "," << last.contacts << "," << last.penetrationCells << "," << world->kineticEnergy() << ","
+        << last.ccdSeconds << "," << last.stepSeconds << "," << last.clamps << "\n";
+  };
   {
     ProgressBar bar("simulating " + scene.name);
     for (int f = 0; f < frames; ++f) {
       world->step();
       ++done;
-      out << done << "," << world->time();
-      for (int i = 0; i < world->bodyCount(); ++i) {
-        const SceneBodyState s = world->bodyState(i);
-        out << "," << s.position.x() << "," << s.position.y() << "," << s.position.z() << "," << s.orientation.w()
-            << "," << s.orientation.x() << "," << s.orientation.y() << "," << s.orientation.z() << ","
-            << s.linearVelocity.x() << "," << s.linearVelocity.y() << "," << s.linearVelocity.z() << ","
-            << s.angularVelocity.x() << "," << s.angularVelocity.y() << "," << s.angularVelocity.z();
-      }
-      const SceneFrameStats& last = world->lastFrame();
-      out << "," << last.contacts << "," << last.penetrationCells << "," << world->kineticEnergy() << ","
-          << last.ccdSeconds << "," << last.stepSeconds << "," << last.clamps << "\n";
+      const bool nonFinite = world->hasNonFinite();
+      // Every K-th frame, the last one, and the one that went non-finite.
+      if (done % o.recordEvery == 0 || done == frames || nonFinite) recordFrame();
       bar.update(double(done) / frames);
-      if (world->hasNonFinite()) {
+      if (nonFinite) {
         nan = true;
         break;
       }
@@ -144,19 +167,14 @@ int runSimulate(const SimulateOptions& o) {
     }
   }
   csv.commit();
-  {
-    // The run folder carries its scene (sdfccd render / plot read it).
-    std::ifstream sceneFile(o.scene, std::ios::binary);
-    std::ostringstream sceneText;
-    sceneText << sceneFile.rdbuf();
-    writeFileAtomically(outDir + "/scene.json", sceneText.str());
-  }
+  writeOutputFile(outDir + "/scene.json", sceneText);  // the run folder carries its scene (render, plot)
 
   const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   const std::vector<std::string> tunneled = world->tunneledBodies();
   nlohmann::ordered_json summary;
   summary["scene"] = o.scene;
   summary["frames"] = done;
+  summary["record_every"] = o.recordEvery;
   summary["timestep"] = world->timestep();
   summary["model"] = world->scene().contact.model == PenaltyModel::Continuous ? "continuous" : "discrete";
   summary["stiffness"] = world->scene().contact.stiffness;
@@ -175,7 +193,8 @@ int runSimulate(const SimulateOptions& o) {
   summary["nan_detected"] = nan;
   summary["final_kinetic_energy"] = nan ? 0.0 : world->kineticEnergy();
   summary["result_hash"] = hex(world->stateHash());
-  writeFileAtomically(outDir + "/summary.json", summary.dump(2) + "\n");
+  writeOutputFile(outDir + "/summary.json", summary.dump(2) + "\n");
+  runFolder.keep();
 
   std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", scene.name.c_str(), done, world->timestep(),
               world->bodyCount(), summary["model"].get<std::string>().c_str(), scene.effectList().c_str());
@@ -193,6 +212,8 @@ const CommandRegistrar registrar("simulate", [](CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scene (assets/scenes/*.json) headless in Bullet");
   cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
   cmd->add_option("--frames", o->frames, "Frames to run (default: the scene's)");
+  cmd->add_option("--record-every", o->recordEvery,
+                  "Write every K-th frame (and the last) to frames.csv, for long runs (default 1)");
   cmd->add_option("--out", o->out, "Output folder (default: out/simulate/<scene name>)");
   cmd->add_option("--cache", o->cache, "Body model cache folder (\"\" disables; default out/cache)");
   cmd->add_option("--model", o->model, "Override the contact model: continuous or discrete");

@@ -37,7 +37,7 @@ ProgramRun runProgram(const std::vector<std::string>& arguments, const std::stri
   const pid_t child = ::fork();
   if (child < 0) return run;
   if (child == 0) {
-    const int log = ::open(logPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int log = ::open(logPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0600);
     const int devNull = ::open("/dev/null", O_RDONLY);
     if (devNull >= 0) ::dup2(devNull, STDIN_FILENO);
     if (log >= 0) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/csv_fields.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/model/mesh_file.h"
@@ -35,16 +36,6 @@ std::string trim(const std::string& text) {
   std::string field = text.substr(begin, end - begin);
   if (field.size() >= 2 && field.front() == '"' && field.back() == '"') field = field.substr(1, field.size() - 2);
   return field;
-}
-
-// The run CSV holds numbers and plain body names: splitting on commas is all it needs (no CSV library in the
-// project's dependencies, and a quoted comma inside a body name is not something the simulate command writes).
-std::vector<std::string> splitCsvLine(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream stream(line);
-  for (std::string field; std::getline(stream, field, ',');) fields.push_back(trim(field));
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
 }
 
 /// Column lookup by any of several names (lower case), optionally prefixed by a body name.
@@ -201,9 +192,10 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
   if (!in) throw Error("cannot open frames '" + csvPath + "': " + std::strerror(errno));
   std::string line;
   std::vector<std::string> header;
-  while (std::getline(in, line)) {
+  int recordLine = 0;  // the last line read
+  while (readCsvRecord(in, line, recordLine)) {
     if (!trim(line).empty() && line[0] != '#') {
-      header = splitCsvLine(line);
+      header = splitCsvRecord(line);  // quoted: body names may hold commas (csv_fields.h)
       break;
     }
   }
@@ -317,12 +309,11 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
     return 0.5 * b.mass * v.squaredNorm() + 0.5 * wInBody.dot(b.principalInertia.cwiseProduct(wInBody));
   };
 
-  int lineNumber = 1;
   double lastKey = std::numeric_limits<double>::quiet_NaN();
-  while (std::getline(in, line)) {
-    ++lineNumber;
+  while (readCsvRecord(in, line, recordLine)) {
+    const int lineNumber = recordLine;
     if (trim(line).empty() || line[0] == '#') continue;
-    const std::vector<std::string> row = splitCsvLine(line);
+    const std::vector<std::string> row = splitCsvRecord(line);
     if (row.size() != header.size()) {
       throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + " has " + std::to_string(row.size()) +
                   " fields, the header " + std::to_string(header.size()) + " (truncated file?)");

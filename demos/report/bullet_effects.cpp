@@ -25,7 +25,7 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
 #include "sdfccd/thread_cpu_time.h"
@@ -168,7 +168,7 @@ ReportSection runEffectsSection(const ReportContext& context) {
     stepSeries.y.push_back(run.stepMilliseconds);
     ccdSeries.y.push_back(run.ccdMilliseconds);
   }
-  writeFileAtomically((context.outDir / "effects.csv").string(), csv.str());
+  writeOutputFile((context.outDir / "effects.csv").string(), csv.str());
   LinePlot plot;
   plot.title = "Step time with each effect alone (10 bunnies, 777 points each)";
   plot.xLabel = "effects simulated";

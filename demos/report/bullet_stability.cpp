@@ -16,7 +16,7 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -96,7 +96,7 @@ ReportSection runStability(const ReportContext& ctx) {
   ctx.progress(1.0);
 
   {
-    AtomicFile csv(ctx.outDir / "stability_trials.csv");
+    OutputFile csv(ctx.outDir / "stability_trials.csv");
     csv.stream() << "search,model,timestep_s,stiffness_n_per_m,stable,max_penetration_cells,why\n";
     for (int m = 0; m < 2; ++m) appendTrials(csv.stream(), "timestep", names[m], byTimestep[m]);
     for (int m = 0; m < 2; ++m) appendTrials(csv.stream(), "stiffness", names[m], byStiffness[m]);

@@ -23,9 +23,9 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -138,7 +138,7 @@ double depthCells(const ShotResult& r) {
 
 // Writes a sweep as CSV, one row per shot.
 void writeSweepCsv(const std::filesystem::path& path, const char* xColumn, const Sweep& sweep) {
-  AtomicFile csv(path);
+  OutputFile csv(path);
   csv.stream() << xColumn << ",plate_cell_m,model,tunnelled,max_depth_m,max_depth_cells,field_penetration_cells\n";
   for (std::size_t i = 0; i < sweep.x.size(); ++i) {
     for (std::size_t v = 0; v < sweep.shots.size(); ++v) {

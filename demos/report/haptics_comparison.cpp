@@ -16,8 +16,8 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -79,7 +79,7 @@ ReportSection runHaptics(const ReportContext& ctx) {
   using haptics::HapticMethod;
 
   {
-    AtomicFile csv(ctx.outDir / "haptics_runs.csv");
+    OutputFile csv(ctx.outDir / "haptics_runs.csv");
     csv.stream() << "scene,method,points,seconds,inserted,tunnelled,max_penetration_cells,max_contacts,"
                     "mean_contacts,sim_cycle_p50_ms,sim_cycle_p99_ms,stuck_cycles\n";
     for (std::size_t c = 0; c < cases; ++c) {

@@ -24,9 +24,11 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
+#include "sdfccd/output_file.h"
+#include "sdfccd/thread_cpu_time.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/response/penalty_model.h"
 #include "sdfccd/thread_cpu_time.h"
 
@@ -352,7 +354,7 @@ ReportSection runIntegrationSection(const ReportContext& context) {
     }
   }
 
-  writeFileAtomically((context.outDir / "integration_errors.csv").string(), csv.str());
+  writeOutputFile((context.outDir / "integration_errors.csv").string(), csv.str());
   PlotSeries parabola{"1/(2 N^2): a parabolic depth profile (grazing)", {}, {}};
   for (int n = 1; n <= kMaxSubintervals; ++n) {
     parabola.x.push_back(n);

@@ -19,8 +19,8 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
@@ -242,8 +242,8 @@ ReportSection runSegmentsSection(const ReportContext& context) {
   }
   const bool ok = exactMissed == 0 && exactWrong == 0 && exactSpurious == 0 && referenceHits > 0;
 
-  writeFileAtomically((context.outDir / "segments_timing.csv").string(), timingCsv.str());
-  writeFileAtomically((context.outDir / "segments_accuracy.csv").string(), accuracyCsv.str());
+  writeOutputFile((context.outDir / "segments_timing.csv").string(), timingCsv.str());
+  writeOutputFile((context.outDir / "segments_accuracy.csv").string(), accuracyCsv.str());
   LinePlot timePlot;
   timePlot.title = "Segment query: time per segment vs field resolution (bunny, random segments)";
   timePlot.xLabel = "field resolution (cells per side)";

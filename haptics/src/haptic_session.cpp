@@ -10,10 +10,10 @@
 #include <sstream>
 #include <thread>
 
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
 #include "sdfccd/thread_cpu_time.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::haptics {
 
@@ -280,7 +280,7 @@ HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessi
 }
 
 void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks) {
-  AtomicFile file(path);
+  OutputFile file(path);
   std::ostream& out = file.stream();
   out << "tick,time,device_x,device_y,device_z,device_qw,device_qx,device_qy,device_qz,"
          "sim_x,sim_y,sim_z,sim_qw,sim_qx,sim_qy,sim_qz,force_x,force_y,force_z,torque_x,torque_y,torque_z,"

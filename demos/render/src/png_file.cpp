@@ -8,8 +8,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::render {
 
@@ -37,7 +37,7 @@ void writePng(const std::string& path, const RgbImage& image) {
     throw Error("cannot encode PNG '" + path + "': " + why);
   }
   bytes.resize(size);
-  writeFileAtomically(path, bytes);
+  writeOutputFile(path, bytes);
 }
 
 RgbImage readPng(const std::string& path) {

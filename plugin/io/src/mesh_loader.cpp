@@ -12,8 +12,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd {
 
@@ -97,7 +97,7 @@ void saveMeshOff(const std::string& path, const TriangleMesh& mesh) {
   s << "OFF\n" << mesh.vertices.size() << ' ' << mesh.triangles.size() << " 0\n";
   for (const Vec3& v : mesh.vertices) s << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
   for (const auto& t : mesh.triangles) s << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-  writeFileAtomically(path, s.str());
+  writeOutputFile(path, s.str());
 }
 
 }  // namespace sdfccd

@@ -19,9 +19,9 @@
 #include <limits>
 #include <sstream>
 
-#include "sdfccd/atomic_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/fnv1a.h"
+#include "sdfccd/output_file.h"
 
 namespace sdfccd {
 
@@ -331,8 +331,8 @@ SdfGrid loadSdf(const std::string& path) {
 
 void saveSdf(const std::string& path, const SdfGrid& grid, SdfFileFormat format) {
   if (grid.empty()) throw Error("cannot write an empty grid to '" + path + "'");
-  AtomicFile file(path);
-  std::ofstream& stream = file.stream();
+  OutputFile file(path);
+  std::ostream& stream = file.stream();
   auto sink = [&](const unsigned char* data, std::size_t size) {
     stream.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   };

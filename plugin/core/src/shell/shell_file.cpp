@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/atomic_file.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/tolerances.h"
 #include "sdfccd/shell/point_shell.h"
@@ -202,7 +202,7 @@ void saveShell(const PointShell& shell, const std::string& path) {
   if (shell.empty()) throw Error("saveShell: the shell has no points");
   const std::string ext = lowerExtension(path);
   if (ext != "ply" && ext != "csv") throw Error(path + ": unknown shell format (use .ply or .csv)");
-  AtomicFile file(path);
+  OutputFile file(path);
   auto& out = file.stream();
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   if (ext == "ply") {

@@ -1,7 +1,7 @@
 /// @file
 /// @brief writePng / readPng: RgbImage to and from PNG files through libpng's simplified API.
 ///
-/// @details Writing encodes in memory, then writes atomically (AtomicFile: temporary file + rename), so an
+/// @details Writing encodes in memory, then writes atomically (OutputFile: temporary file + rename), so an
 /// error never leaves a half-written PNG. libpng's simplified API reports errors through return codes (no
 /// setjmp/longjmp across C++ frames).
 #pragma once

@@ -7,7 +7,7 @@
 /// SDFGen text: line 1 `ni nj nk`, line 2 the origin `x y z`, line 3 the spacing `dx`, then ni*nj*nk values
 /// with i fastest; value (i,j,k) sits at origin + (i,j,k)*dx.
 /// Loading detects the format by content and validates everything; any defect is a one-line sdfccd::Error
-/// naming the file. Saving goes through AtomicFile: an error never leaves a partial output.
+/// naming the file. Saving goes through OutputFile: an error never leaves a partial output.
 #pragma once
 
 #include <string>

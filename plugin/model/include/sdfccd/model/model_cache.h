@@ -5,7 +5,7 @@
 /// @details An entry is a file "<folder>/<name>-<key>.<ext>": `name` says what it was built from (a mesh file's
 /// stem), `key` is a 64-bit FNV-1a (sdfccd/fnv1a.h) of the content it was built from and of the build
 /// parameters, written as 16 hex digits, so a changed mesh or parameter never hits a stale entry. Fields are
-/// stored in the native .sdf format, shells as .ply; both are written atomically (AtomicFile), so an
+/// stored in the native .sdf format, shells as .ply; both are written atomically (OutputFile), so an
 /// interrupted build never leaves a half-written entry. An entry that fails to load (damaged, truncated) is
 /// rebuilt and overwritten; a cache that cannot be written only costs the next run the build.
 ///
