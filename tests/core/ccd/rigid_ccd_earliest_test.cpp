@@ -15,13 +15,7 @@
 namespace sdfccd {
 namespace {
 
-using test::expectSameContacts;
-using test::RandomGridCase;
-using test::randomGridCase;
-using test::run;
-using test::sampleBowl;
-using test::shortStepFrom;
-using test::variedGridSettings;
+using namespace test;  // rigid_ccd_test_util.h and the shell helpers
 
 // earliestOnly: the full linear query's contacts at its minimum fraction (sorted by point, as the full ones).
 RigidCcdResult earliestOf(const RigidCcdResult& full) {
@@ -83,10 +77,7 @@ TEST(RigidCcd, EarliestOnlyEqualsTheMinimumOfTheLinearContactsOnRandomGridFields
   std::int64_t earliestQueries = 0;
   std::int64_t fullQueries = 0;
   for (int field = 0; field < 6; ++field) {
-    const RandomGridCase gridCase = randomGridCase(200 + field, field, rng);
-    const GridField& grid = gridCase.grid;
-    const PointTree& tree = gridCase.tree;
-    const Box3& poses = gridCase.poses;
+    const auto& [grid, tree, poses] = randomGridCase(200 + field, field, rng);
     for (int config = 0; config < 40; ++config) {
       Rigid a = test::randomPose(poses, rng);
       Rigid b = test::randomPose(poses, rng);
@@ -136,9 +127,7 @@ TEST(RigidCcd, EarliestOnlyEqualsTheMinimumOfTheLinearContactsOnAnalyticFields) 
   for (int config = 0; config < 120; ++config) {
     const Rigid a = test::randomPose(poses, rng);
     const Rigid b = test::randomPose(poses, rng);
-    RigidCcdSettings s;
-    s.sigma = config % 3 == 0 ? 0.1 : 0.0;
-    s.mode = config % 2 == 0 ? CcdMode::AllIntervals : CcdMode::FirstHit;
+    RigidCcdSettings s = variedSphereSettings(config);
     // Ignored points must stay ignored in the earliest query too.
     std::vector<std::uint8_t> ignoredPoints(static_cast<std::size_t>(tree.pointCount()), 0);
     for (std::size_t p = 0; p < ignoredPoints.size(); p += 3) ignoredPoints[p] = 1;

@@ -20,15 +20,7 @@
 namespace sdfccd {
 namespace {
 
-using test::bumpyGrid;
-using test::checkTreeEqualsLinear;
-using test::expanded;
-using test::RandomGridCase;
-using test::randomGridCase;
-using test::run;
-using test::sampleBowl;
-using test::shortStepFrom;
-using test::variedGridSettings;
+using namespace test;  // rigid_ccd_test_util.h and the shell helpers
 
 TEST(RigidCcd, ShellFallingOntoThePlaneHitsAtTheClosedFormFraction) {
   const PointTree tree(shellFromVertices(makeIcosphere(1.0, 3)));
@@ -83,9 +75,7 @@ TEST(RigidCcd, RotatingShellAgainstTheSphereMatchesPerPointClosedForm) {
   for (int config = 0; config < 150; ++config) {
     const Rigid a = test::randomPose(poses, rng);
     const Rigid b = test::randomPose(poses, rng);
-    RigidCcdSettings settings;
-    settings.sigma = config % 3 == 0 ? 0.1 : 0.0;
-    settings.mode = config % 2 == 0 ? CcdMode::AllIntervals : CcdMode::FirstHit;
+    const RigidCcdSettings settings = variedSphereSettings(config);
     const RigidCcdResult r = checkTreeEqualsLinear(tree, sphere, a, b, settings, "sphere " + std::to_string(config));
     // Per point, independently: the quadratic |p(t) - c|^2 = (r + sigma)^2.
     std::size_t next = 0;
@@ -123,10 +113,7 @@ TEST(RigidCcd, TreeEqualsLinearOnRandomShellsAndRandomGridFields) {
   std::int64_t treeQueries = 0;
   std::int64_t linearQueries = 0;
   for (int field = 0; field < 6; ++field) {
-    const RandomGridCase gridCase = randomGridCase(100 + field, field, rng);
-    const GridField& grid = gridCase.grid;
-    const PointTree& tree = gridCase.tree;
-    const Box3& poses = gridCase.poses;
+    const auto& [grid, tree, poses] = randomGridCase(100 + field, field, rng);
     for (int config = 0; config < 40; ++config) {
       const Rigid a = test::randomPose(poses, rng);
       // Half the steps are short (the simulation case), half span the expanded box (Table 3).

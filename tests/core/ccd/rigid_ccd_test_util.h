@@ -134,4 +134,13 @@ inline RigidCcdSettings variedGridSettings(int config) {
   return s;
 }
 
+/// Sigma and mode varied with the configuration, for the sphere and the plane: sigma 0.1 on every third, all
+/// intervals on even configurations and first hits on odd ones.
+inline RigidCcdSettings variedSphereSettings(int config) {
+  RigidCcdSettings s;
+  s.sigma = config % 3 == 0 ? 0.1 : 0.0;
+  s.mode = config % 2 == 0 ? CcdMode::AllIntervals : CcdMode::FirstHit;
+  return s;
+}
+
 }  // namespace sdfccd::test
