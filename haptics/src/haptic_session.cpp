@@ -12,8 +12,8 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
-#include "sdfccd/thread_cpu_time.h"
 #include "sdfccd/output_file.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::haptics {
 
