@@ -16,6 +16,7 @@
 
 #include "cli/command_registry.h"
 #include "cli/csv_numbers.h"
+#include "cli/query_options.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/field/sdf_file.h"
@@ -53,22 +54,8 @@ std::vector<SegmentLine> readSegments(const std::string& path, double defaultSig
 int runQuery(const QueryOptions& o) {
   if (!std::isfinite(o.sigma)) throw Error("--sigma must be finite");
   SegmentCcdSettings settings;
-  if (o.method == "exact") {
-    settings.method = CcdMethod::Exact;
-  } else if (o.method == "bisection") {
-    settings.method = CcdMethod::Bisection;
-  } else {
-    throw Error("--method must be exact or bisection, got '" + o.method + "'");
-  }
-  if (o.octree == "full") {
-    settings.octree = OctreeMode::Full;
-  } else if (o.octree == "leaves") {
-    settings.octree = OctreeMode::Leaves;
-  } else if (o.octree == "off") {
-    settings.octree = OctreeMode::Off;
-  } else {
-    throw Error("--octree must be full, leaves or off, got '" + o.octree + "'");
-  }
+  settings.method = parseCcdMethod(o.method);
+  settings.octree = parseOctreeMode(o.octree);
   settings.mode = CcdMode::AllIntervals;
   const std::vector<SegmentLine> segments = readSegments(o.segments, o.sigma);
   const GridField field(std::make_shared<const SdfGrid>(loadSdf(o.field)));
@@ -83,12 +70,7 @@ int runQuery(const QueryOptions& o) {
     out += ',';
     if (result.hit()) appendCsvNumber(out, result.fraction);
     out += ',';
-    for (std::size_t k = 0; k < result.intervals.size(); ++k) {
-      if (k > 0) out += ' ';
-      appendCsvNumber(out, result.intervals[k].begin);
-      out += ':';
-      appendCsvNumber(out, result.intervals[k].end);
-    }
+    appendCsvIntervals(out, result.intervals);
     out += '\n';
   }
   std::fwrite(out.data(), 1, out.size(), stdout);

@@ -26,6 +26,7 @@
 
 #include "cli/command_registry.h"
 #include "cli/csv_numbers.h"
+#include "cli/query_options.h"
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/grid_field.h"
@@ -103,22 +104,8 @@ RigidCcdSettings settingsFrom(const QueryRigidOptions& o) {
   } else {
     throw Error("--query must be earliest or all, got '" + o.query + "'");
   }
-  if (o.method == "exact") {
-    settings.method = CcdMethod::Exact;
-  } else if (o.method == "bisection") {
-    settings.method = CcdMethod::Bisection;
-  } else {
-    throw Error("--method must be exact or bisection, got '" + o.method + "'");
-  }
-  if (o.octree == "full") {
-    settings.octree = OctreeMode::Full;
-  } else if (o.octree == "leaves") {
-    settings.octree = OctreeMode::Leaves;
-  } else if (o.octree == "off") {
-    settings.octree = OctreeMode::Off;
-  } else {
-    throw Error("--octree must be full, leaves or off, got '" + o.octree + "'");
-  }
+  settings.method = parseCcdMethod(o.method);
+  settings.octree = parseOctreeMode(o.octree);
   if (o.tree == "on") {
     settings.useTree = true;
   } else if (o.tree == "off") {
@@ -160,12 +147,7 @@ int runQueryRigid(const QueryRigidOptions& o) {
       out += ',';
       appendCsvNumber(out, contact.fraction);
       out += ',';
-      for (std::size_t k = 0; k < contact.intervals.size(); ++k) {
-        if (k > 0) out += ' ';
-        appendCsvNumber(out, contact.intervals[k].begin);
-        out += ':';
-        appendCsvNumber(out, contact.intervals[k].end);
-      }
+      appendCsvIntervals(out, contact.intervals);
       out += '\n';
     }
   }

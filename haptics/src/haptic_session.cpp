@@ -12,8 +12,8 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
-#include "sdfccd/thread_cpu_time.h"
 #include "sdfccd/output_file.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::haptics {
 
@@ -129,33 +129,45 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     result.ticks.push_back(row);
   };
 
+  const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
+  // One simulation step, `step()`, with its thread CPU time and wall time (ms) logged; returns its result.
+  const auto timedStep = [&](const auto& step) {
+    const double cpu0 = threadCpuSeconds();
+    const auto t0 = Clock::now();
+    auto r = step();
+    const auto t1 = Clock::now();
+    log.cycleCpuMs.push_back(1e3 * (threadCpuSeconds() - cpu0));
+    log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    return r;
+  };
+  // What a step hands the haptic loop (its time is the last logged), observed by the log: the wrench, the pose
+  // reached, its contacts and the penetration measured there (untimed).
+  const auto stepOutput = [&](const Vec6& wrenchOnDevice, const Rigid& worldFromSimulation, int contacts) {
+    SimulationOutput out;
+    out.cycleMs = log.cycleMs.back();
+    out.wrenchOnDevice = wrenchOnDevice;
+    out.worldFromSimulation = worldFromSimulation;
+    out.contacts = contacts;
+    out.penetration = measurePenetration(tree, field, sdfFromWorld * worldFromSimulation, penetrationScratch);
+    log.observe(scene, worldFromSimulation, contacts, out.penetration);
+    return out;
+  };
+
   LoopTimingStats timing;
   if (constraint) {
     GodObjectSettings godSettings = scene.god;
     godSettings.continuous = settings.method == HapticMethod::Constraint;
     godSettings.threads = settings.ccdThreads;
     GodObject<Field> god(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, godSettings);
-    const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
     // One simulation cycle: the timed QP + CCD, then the (untimed) penetration measurement.
     const auto cycle = [&](const Rigid& worldFromDevice) {
-      const double cpu0 = threadCpuSeconds();
-      const auto t0 = Clock::now();
-      const GodObjectStepResult r = god.step(worldFromDevice);
-      const auto t1 = Clock::now();
-      log.cycleCpuMs.push_back(1e3 * (threadCpuSeconds() - cpu0));
-      log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-      SimulationOutput out;
-      out.cycleMs = log.cycleMs.back();
-      out.wrenchOnDevice = r.wrenchOnDevice;
-      out.worldFromSimulation = god.pose();
-      out.contacts = r.nextContactCount;
-      out.penetration = measurePenetration(tree, field, sdfFromWorld * god.pose(), penetrationScratch);
+      const GodObjectStepResult r = timedStep([&] { return god.step(worldFromDevice); });
+      SimulationOutput out = stepOutput(r.wrenchOnDevice, god.pose(), r.nextContactCount);
       out.qpState = static_cast<int>(r.qpState);
       out.idle = r.fraction * r.constrained.norm() < 1e-9 * scene.cellSize;
       log.stuck += r.qpState == ContactQpState::Stuck;
       log.failed += r.qpState == ContactQpState::Failed;
       log.blocked += r.blocked;
-      log.observe(scene, god.pose(), out.contacts, out.penetration);
       return out;
     };
     SimulationOutput initial;
@@ -210,23 +222,10 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     penaltySettings.timestep = 1.0 / scene.device.rateHz;
     penaltySettings.threads = settings.ccdThreads;
     PenaltyRenderer<Field> renderer(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, penaltySettings);
-    const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
     // The penalty step runs in the haptic loop itself (one step per tick).
     const TickHandler handler = [&](const DeviceState& state) {
-      const double cpu0 = threadCpuSeconds();
-      const auto t0 = Clock::now();
-      const PenaltyStepResult r = renderer.step(state.body);
-      const auto t1 = Clock::now();
-      log.cycleCpuMs.push_back(1e3 * (threadCpuSeconds() - cpu0));
-      log.cycleMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-      SimulationOutput sim;
-      sim.cycleMs = log.cycleMs.back();
-      sim.wrenchOnDevice = r.wrenchOnDevice;
-      sim.worldFromSimulation = renderer.state().worldFromBody;
-      sim.contacts = r.contactCount;
-      sim.penetration =
-          measurePenetration(tree, field, sdfFromWorld * renderer.state().worldFromBody, penetrationScratch);
-      log.observe(scene, renderer.state().worldFromBody, sim.contacts, sim.penetration);
+      const PenaltyStepResult r = timedStep([&] { return renderer.step(state.body); });
+      const SimulationOutput sim = stepOutput(r.wrenchOnDevice, renderer.state().worldFromBody, r.contactCount);
       record(state, sim);
       return sim.wrenchOnDevice;
     };

@@ -10,6 +10,9 @@
 #                           redefine it after sourcing)
 #   skip_without COMMAND WHY   exit 0 with "skipped: WHY" when `sdfccd --help` lists no COMMAND
 #   png_size FILE           a PNG's "WIDTHxHEIGHT" from its IHDR chunk
+#   write_tet_off FILE      writes the unit tetrahedron (outward faces) as OFF, small enough to build instantly
+#   expect_one_line_error ARGS...   runs `sdfccd ARGS...` (stdout to $work/out.txt, stderr to $work/err.txt) and
+#                           fails unless it exits non-zero with exactly one line on stderr
 set -u
 tool="${1:?usage: bash script.sh /path/to/sdfccd /path/to/assets}"
 assets="${2:-}"
@@ -24,3 +27,24 @@ skip_without() {
 
 # PNG width and height from the IHDR chunk (bytes 16..23, big-endian).
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{printf "%dx%d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'; }
+
+write_tet_off() {
+  cat >"$1" <<'MESH'
+OFF
+4 4 0
+0 0 0
+1 0 0
+0 1 0
+0 0 1
+3 0 2 1
+3 0 1 3
+3 0 3 2
+3 1 2 3
+MESH
+}
+
+expect_one_line_error() {
+  "$tool" "$@" >"$work/out.txt" 2>"$work/err.txt" && fail "accepted: $*"
+  [ "$(wc -l <"$work/err.txt")" -eq 1 ] || fail "not one line of stderr for: $* ($(cat "$work/err.txt"))"
+  return 0
+}

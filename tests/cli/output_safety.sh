@@ -10,8 +10,7 @@ source "$(dirname "$0")/lib.sh"
 expect_refused() {
   local name="$1"
   shift
-  "$tool" "$@" >"$work/out.txt" 2>"$work/err.txt" && fail "accepted: $*"
-  [ "$(wc -l <"$work/err.txt")" -eq 1 ] || fail "not one line of stderr for: $* ($(cat "$work/err.txt"))"
+  expect_one_line_error "$@"
   grep -qF "$name" "$work/err.txt" || fail "error does not name $name: $(cat "$work/err.txt")"
   return 0
 }
@@ -20,18 +19,7 @@ no_temporaries() { ! find "$work" -name '*.tmp-*' ! -type l | grep -q . || fail 
 
 case "$tool" in /*) ;; *) tool="$PWD/$tool" ;; esac  # this script works inside $work
 cd "$work" || fail "cd"
-cat >tet.off <<'MESH'
-OFF
-4 4 0
-0 0 0
-1 0 0
-0 1 0
-0 0 1
-3 0 2 1
-3 0 1 3
-3 0 3 2
-3 1 2 3
-MESH
+write_tet_off tet.off
 cp tet.off tet.orig
 "$tool" build-sdf tet.off -r 8 -p 2 -o ref.sdf >/dev/null 2>&1 || fail "reference build failed"
 

@@ -3,19 +3,7 @@
 # on stderr, a non-zero exit and no output file.
 source "$(dirname "$0")/lib.sh"
 
-# A tetrahedron, outward.
-cat > "$work/tet.off" <<'MESH'
-OFF
-4 4 0
-0 0 0
-1 0 0
-0 1 0
-0 0 1
-3 0 2 1
-3 0 1 3
-3 0 3 2
-3 1 2 3
-MESH
+write_tet_off "$work/tet.off"
 
 "$tool" sample "$work/tet.off" --points 60 -o "$work/tet.ply" > "$work/out.txt" 2> "$work/err.txt" \
   || fail "sample --points failed: $(cat "$work/err.txt")"

@@ -8,26 +8,13 @@ source "$(dirname "$0")/lib.sh"
 expect_error() {
   local output="$1"
   shift
-  "$tool" "$@" >"$work/out.txt" 2>"$work/err.txt" && fail "accepted: $*"
-  [ "$(wc -l <"$work/err.txt")" -eq 1 ] || fail "not one line of stderr for: $* ($(cat "$work/err.txt"))"
+  expect_one_line_error "$@"
   if [ -n "$output" ] && [ -e "$output" ]; then fail "output left behind by: $*"; fi
   ls "$work" | grep -q "\.tmp-" && fail "temporary file left behind by: $*"
   return 0
 }
 
-# A tetrahedron in OFF, small enough to build instantly.
-cat >"$work/tet.off" <<'MESH'
-OFF
-4 4 0
-0 0 0
-1 0 0
-0 1 0
-0 0 1
-3 0 2 1
-3 0 1 3
-3 0 3 2
-3 1 2 3
-MESH
+write_tet_off "$work/tet.off"
 
 "$tool" build-sdf "$work/tet.off" --resolution 8 --padding 2 -o "$work/tet.sdf" >"$work/build.txt" 2>"$work/err.txt" \
   || fail "build-sdf failed: $(cat "$work/err.txt")"

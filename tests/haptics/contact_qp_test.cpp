@@ -124,6 +124,16 @@ TEST(ContactQp, PushingStraightIntoAPlaneIsBlockedNotStuck) {
   EXPECT_EQ(r.acceleration, Vec6::Zero());
 }
 
+// Solves one problem: solved, finite, and within 1e-7 (1 + |aU|) of the brute-force answer.
+void solveMatchingBruteForce(ContactQpSolver& solver, const Mat6& m, const ConstraintRows& j, const Vec6& aU, int trial,
+                             ContactQpResult& out) {
+  out = solver.solve(m, j, aU);
+  ASSERT_EQ(out.state, ContactQpState::Solved) << "trial " << trial;
+  ASSERT_TRUE(out.acceleration.allFinite());
+  const Vec6 expected = bruteForce(m, j, aU);
+  EXPECT_LE((out.acceleration - expected).norm(), 1e-7 * (1.0 + aU.norm())) << "trial " << trial;
+}
+
 TEST(ContactQp, MatchesBruteForceOnRandomSmallProblems) {
   std::mt19937 rng(12345);
   ContactQpSolver solver;
@@ -133,10 +143,8 @@ TEST(ContactQp, MatchesBruteForceOnRandomSmallProblems) {
     ConstraintRows j(rows, 6);
     for (int k = 0; k < rows; ++k) j.row(k) = randomVec(rng).transpose();
     const Vec6 aU = randomVec(rng, 3.0);
-    const ContactQpResult r = solver.solve(m, j, aU);
-    ASSERT_EQ(r.state, ContactQpState::Solved) << "trial " << trial;
-    const Vec6 expected = bruteForce(m, j, aU);
-    EXPECT_LE((r.acceleration - expected).norm(), 1e-7 * (1.0 + aU.norm())) << "trial " << trial;
+    ContactQpResult r;
+    ASSERT_NO_FATAL_FAILURE(solveMatchingBruteForce(solver, m, j, aU, trial, r));
     expectKkt(m, j, aU, r);
   }
 }
@@ -155,11 +163,8 @@ TEST(ContactQp, DegenerateRowsMatchBruteForce) {
     j.row(4) = (trial % 2 ? Vec6(-base) : randomVec(rng)).transpose();       // opposite: a slab of width 0
     j.row(5) = (0.5 * base + 0.5 * Vec6(j.row(4).transpose())).transpose();  // in the span of others
     const Vec6 aU = randomVec(rng, 2.0);
-    const ContactQpResult r = solver.solve(m, j, aU);
-    ASSERT_EQ(r.state, ContactQpState::Solved) << "trial " << trial;
-    ASSERT_TRUE(r.acceleration.allFinite());
-    const Vec6 expected = bruteForce(m, j, aU);
-    EXPECT_LE((r.acceleration - expected).norm(), 1e-7 * (1.0 + aU.norm())) << "trial " << trial;
+    ContactQpResult r;
+    ASSERT_NO_FATAL_FAILURE(solveMatchingBruteForce(solver, m, j, aU, trial, r));
     EXPECT_EQ(r.multipliers[3], 0.0);
     expectKkt(m, j, aU, r);
   }

@@ -27,24 +27,31 @@ HapticSessionSummary run(const HapticScene& scene, HapticMethod method) {
   return runHapticSession(scene, s).summary;
 }
 
+struct ConstraintAndPenalty {
+  HapticSessionSummary constraint;
+  HapticSessionSummary penalty;
+};
+
+// The scene `name` run with the constraint method, then with the penalty method.
+ConstraintAndPenalty runConstraintAndPenalty(const std::string& name) {
+  const HapticScene scene = loadHapticScene(scenePath(name));
+  return {run(scene, HapticMethod::Constraint), run(scene, HapticMethod::Penalty)};
+}
+
 TEST(HapticSession, PegGoesIntoTheMatchedHoleWithBothMethods) {
-  const HapticScene scene = loadHapticScene(scenePath("peg-in-hole.json"));
-  const HapticSessionSummary constraint = run(scene, HapticMethod::Constraint);
+  const auto [constraint, penalty] = runConstraintAndPenalty("peg-in-hole.json");
   EXPECT_TRUE(constraint.inserted);
   EXPECT_EQ(constraint.maxPenetrationCells, 0.0);
   EXPECT_EQ(constraint.failedCycles, 0);
-  const HapticSessionSummary penalty = run(scene, HapticMethod::Penalty);
   EXPECT_TRUE(penalty.inserted);
   EXPECT_LT(penalty.maxPenetrationCells, 0.5);  // the coupling saturates at half a voxel
 }
 
 TEST(HapticSession, ShrunkHoleStopsTheConstraintMethodButNotPenalty) {
-  const HapticScene scene = loadHapticScene(scenePath("peg-in-hole-shrunk.json"));
-  const HapticSessionSummary constraint = run(scene, HapticMethod::Constraint);
+  const auto [constraint, penalty] = runConstraintAndPenalty("peg-in-hole-shrunk.json");
   EXPECT_FALSE(constraint.inserted);
   EXPECT_EQ(constraint.maxPenetrationCells, 0.0);
   EXPECT_GT(constraint.blockedCycles, 0);
-  const HapticSessionSummary penalty = run(scene, HapticMethod::Penalty);
   EXPECT_TRUE(penalty.inserted);                                // the paper's false positive
   EXPECT_GT(penalty.maxPenetrationCells, 0.0);                  // ... through a shallow penetration
   EXPECT_GT(penalty.maxContacts, 10 * constraint.maxContacts);  // paper: ~1,000 vs under 10

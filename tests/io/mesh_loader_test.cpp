@@ -34,8 +34,10 @@ std::string cubeObj() {
   return s;
 }
 
-std::string cubeOff() {
-  std::string s = "OFF\n8 6 0\n";
+// The cube's corners, one per line, then its quads as "4 a b c d" with 0-based indices: the body of OFF and of
+// an ASCII PLY alike.
+std::string cubeBody() {
+  std::string s;
   for (const auto& c : kCorner)
     s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
   for (const auto& q : kQuads)
@@ -44,16 +46,14 @@ std::string cubeOff() {
   return s;
 }
 
+std::string cubeOff() {
+  return "OFF\n8 6 0\n" + cubeBody();
+}
+
 std::string cubePly() {
-  std::string s =
-      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
-      "element face 6\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& c : kCorner)
-    s += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
-  for (const auto& q : kQuads)
-    s += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
-         std::to_string(q[3]) + "\n";
-  return s;
+  return "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 6\nproperty list uchar int vertex_indices\nend_header\n" +
+         cubeBody();
 }
 
 // STL stores every triangle with its own three vertices.

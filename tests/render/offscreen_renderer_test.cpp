@@ -55,6 +55,25 @@ RenderSettings plainSettings(int width, int height) {
   return settings;
 }
 
+// Pixels that are not black (the plain settings' background).
+int litPixels(const RgbImage& image) {
+  return countPixels(image, [](const std::uint8_t* p) { return p[0] + p[1] + p[2] > 0; });
+}
+
+// The camera 5 units up the z axis looking at the origin, 40 degrees of vertical field of view.
+RenderCamera onAxisCamera() {
+  RenderCamera camera;
+  camera.eye = Vec3(0.0, 0.0, 5.0);
+  camera.target = Vec3::Zero();
+  camera.fovDegrees = 40.0;
+  return camera;
+}
+
+// The focal length in pixels of `camera` in an image `height` pixels high.
+double focalPixels(const RenderCamera& camera, int height) {
+  return 0.5 * height / std::tan(0.5 * camera.fovDegrees * kPi / 180.0);
+}
+
 // A body above the ground, seen by a camera looking horizontally: the horizon is the middle row, the body is
 // entirely above it at its projected place, the ground entirely below it.
 TEST(OffscreenRenderer, BodyAboveGroundAppearsAboveTheHorizonWhereProjected) {
@@ -88,7 +107,7 @@ TEST(OffscreenRenderer, BodyAboveGroundAppearsAboveTheHorizonWhereProjected) {
   // Analytic silhouette: a circle around the projected centre (the view axis is nearly through it).
   const PixelProjection projected = projectToPixel(camera, centre, image.width, image.height);
   const double distance = (centre - camera.eye).norm();
-  const double focal = 0.5 * image.height / std::tan(0.5 * camera.fovDegrees * kPi / 180.0);
+  const double focal = focalPixels(camera, image.height);
   const double radiusPixels = focal * std::tan(std::asin(radius / distance));
   EXPECT_NEAR(0.5 * (minX + maxX + 1), projected.pixel.x(), 1.5);
   EXPECT_NEAR(0.5 * (minY + maxY + 1), projected.pixel.y(), 1.5);
@@ -134,19 +153,16 @@ TEST(OffscreenRenderer, SphereSilhouetteMatchesProjectedArea) {
   RenderScene scene;
   const double radius = 1.0;
   scene.meshes.push_back(redBody(test::makeIcosphere(5), Vec3::Zero(), radius));
-  RenderCamera camera;
-  camera.eye = Vec3(0.0, 0.0, 5.0);
-  camera.target = Vec3::Zero();
-  camera.fovDegrees = 40.0;
+  const RenderCamera camera = onAxisCamera();
   scene.camera = camera;
   const RenderSettings settings = plainSettings(400, 400);
   OffscreenRenderer renderer;
   const RgbImage image = renderer.render(scene, settings);
   keepForInspection(image, "sphere");
-  const double focal = 0.5 * settings.height / std::tan(0.5 * camera.fovDegrees * kPi / 180.0);
+  const double focal = focalPixels(camera, settings.height);
   const double discRadius = focal * std::tan(std::asin(radius / 5.0));
   const double expected = kPi * discRadius * discRadius;
-  const int counted = countPixels(image, [](const std::uint8_t* p) { return p[0] + p[1] + p[2] > 0; });
+  const int counted = litPixels(image);
   EXPECT_NEAR(counted, expected, 0.01 * expected) << "disc radius " << discRadius << " px";
 }
 
@@ -155,22 +171,18 @@ TEST(OffscreenRenderer, BoxSilhouetteMatchesProjectedArea) {
   RenderScene scene;
   const double half = 0.8;
   scene.meshes.push_back(redBody(test::makeBox(Vec3(half, half, half)), Vec3::Zero()));
-  RenderCamera camera;
-  camera.eye = Vec3(0.0, 0.0, 5.0);
-  camera.target = Vec3::Zero();
-  camera.fovDegrees = 40.0;
+  const RenderCamera camera = onAxisCamera();
   scene.camera = camera;
   const RenderSettings settings = plainSettings(400, 300);
   OffscreenRenderer renderer;
   const RgbImage image = renderer.render(scene, settings);
-  const double focal = 0.5 * settings.height / std::tan(0.5 * camera.fovDegrees * kPi / 180.0);
+  const double focal = focalPixels(camera, settings.height);
   const double side = focal * 2.0 * half / (5.0 - half);
-  const int counted = countPixels(image, [](const std::uint8_t* p) { return p[0] + p[1] + p[2] > 0; });
+  const int counted = litPixels(image);
   EXPECT_NEAR(counted, side * side, 0.01 * side * side) << "side " << side << " px";
   // Rotated 45 degrees about the view axis, the front face is the same square turned: same area.
   scene.meshes[0].worldFromBody.linear() = Eigen::AngleAxisd(kPi / 4.0, Vec3::UnitZ()).toRotationMatrix();
-  const int turned =
-      countPixels(renderer.render(scene, settings), [](const std::uint8_t* p) { return p[0] + p[1] + p[2] > 0; });
+  const int turned = litPixels(renderer.render(scene, settings));
   EXPECT_NEAR(turned, side * side, 0.015 * side * side);
 }
 

@@ -4,16 +4,15 @@
 /// vs their SDFs; no node is ever culled above a colliding point (brute force over every node).
 #include "sdfccd/ccd/rigid_ccd.h"
 
-#include <algorithm>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
-#include "core/segment_reference.h"
-#include "core/shell_test_util.h"
-#include "sdfccd/field/analytic_fields.h"
+#include "core/ccd/rigid_ccd_test_util.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "sdfccd/mesh/sdf_builder.h"
@@ -21,83 +20,7 @@
 namespace sdfccd {
 namespace {
 
-// Bit-identical contacts (the tree runs the very same leaf queries as the linear traversal).
-void expectSameContacts(const RigidCcdResult& a, const RigidCcdResult& b, const std::string& what) {
-  ASSERT_EQ(a.contacts.size(), b.contacts.size()) << what;
-  for (std::size_t n = 0; n < a.contacts.size(); ++n) {
-    const PointContact& x = a.contacts[n];
-    const PointContact& y = b.contacts[n];
-    ASSERT_EQ(x.point, y.point) << what;
-    EXPECT_EQ(x.state, y.state) << what;
-    EXPECT_EQ(x.fraction, y.fraction) << what;
-    EXPECT_EQ(x.depthAtEnd, y.depthAtEnd) << what;
-    EXPECT_EQ(x.fieldNormalInSdf, y.fieldNormalInSdf) << what;
-    EXPECT_EQ(x.pointNormalInShell, y.pointNormalInShell) << what;
-    ASSERT_EQ(x.intervals.size(), y.intervals.size()) << what;
-    for (std::size_t k = 0; k < x.intervals.size(); ++k) {
-      EXPECT_EQ(x.intervals[k].begin, y.intervals[k].begin) << what;
-      EXPECT_EQ(x.intervals[k].end, y.intervals[k].end) << what;
-    }
-  }
-  EXPECT_EQ(a.firstFraction, b.firstFraction) << what;
-}
-
-template <class Field>
-RigidCcdResult run(const PointTree& tree, const Field& field, const Rigid& a, const Rigid& b, RigidCcdSettings s) {
-  RigidCcdResult r;
-  rigidCcd(tree, field, a, b, s, r);
-  return r;
-}
-
-// Linear, tree, tree on 2 threads, linear on 2 threads: all identical. Returns the linear result.
-template <class Field>
-RigidCcdResult checkTreeEqualsLinear(const PointTree& tree, const Field& field, const Rigid& a, const Rigid& b,
-                                     RigidCcdSettings s, const std::string& what) {
-  s.useTree = false;
-  s.threads = 1;
-  const RigidCcdResult linear = run(tree, field, a, b, s);
-  s.useTree = true;
-  const RigidCcdResult treeResult = run(tree, field, a, b, s);
-  expectSameContacts(linear, treeResult, what + " tree");
-  s.threads = 2;
-  const RigidCcdResult threaded = run(tree, field, a, b, s);
-  expectSameContacts(linear, threaded, what + " tree, 2 threads");
-  EXPECT_EQ(threaded.stats.nodesVisited, treeResult.stats.nodesVisited) << what;
-  EXPECT_EQ(threaded.stats.segmentQueries, treeResult.stats.segmentQueries) << what;
-  s.useTree = false;
-  expectSameContacts(linear, run(tree, field, a, b, s), what + " linear, 2 threads");
-  return linear;
-}
-
-// A bumpy union of spheres with noise: its interpolant is steeper than 1 in places.
-std::shared_ptr<const SdfGrid> bumpyGrid(std::uint32_t seed, double noise) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.6, 0.6);
-  std::vector<Vec3> centres;
-  std::vector<double> radii;
-  for (int k = 0; k < 4; ++k) {
-    centres.emplace_back(u(rng), u(rng), u(rng));
-    radii.push_back(0.3 + 0.3 * std::abs(u(rng)));
-  }
-  std::uniform_real_distribution<double> jitter(-noise, noise);
-  return test::sampleGrid(Vec3i(21, 19, 23), Vec3(-1.2, -1.1, -1.3), 0.12, [&](const Vec3& p) {
-    double d = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 4; ++k) d = std::min(d, (p - centres[k]).norm() - radii[k]);
-    return d + jitter(rng);
-  });
-}
-
-PointShell sampleBowl(int points, int iterations) {
-  ShellSamplingSettings settings;
-  settings.points = points;
-  settings.iterations = iterations;
-  return sampleShell(makeLathedBowl(), settings);
-}
-
-Box3 expanded(const Box3& box, double factor) {
-  const Vec3 half = 0.5 * factor * box.sizes();
-  return Box3(box.center() - half, box.center() + half);
-}
+using namespace test;  // rigid_ccd_test_util.h and the shell helpers
 
 TEST(RigidCcd, ShellFallingOntoThePlaneHitsAtTheClosedFormFraction) {
   const PointTree tree(shellFromVertices(makeIcosphere(1.0, 3)));
@@ -152,9 +75,7 @@ TEST(RigidCcd, RotatingShellAgainstTheSphereMatchesPerPointClosedForm) {
   for (int config = 0; config < 150; ++config) {
     const Rigid a = test::randomPose(poses, rng);
     const Rigid b = test::randomPose(poses, rng);
-    RigidCcdSettings settings;
-    settings.sigma = config % 3 == 0 ? 0.1 : 0.0;
-    settings.mode = config % 2 == 0 ? CcdMode::AllIntervals : CcdMode::FirstHit;
+    const RigidCcdSettings settings = variedSphereSettings(config);
     const RigidCcdResult r = checkTreeEqualsLinear(tree, sphere, a, b, settings, "sphere " + std::to_string(config));
     // Per point, independently: the quadratic |p(t) - c|^2 = (r + sigma)^2.
     std::size_t next = 0;
@@ -192,25 +113,15 @@ TEST(RigidCcd, TreeEqualsLinearOnRandomShellsAndRandomGridFields) {
   std::int64_t treeQueries = 0;
   std::int64_t linearQueries = 0;
   for (int field = 0; field < 6; ++field) {
-    const GridField grid(bumpyGrid(100 + field, field % 2 == 0 ? 0.0 : 0.05));
-    const PointShell shell = field % 3 == 2 ? sampleBowl(800, 5) : test::randomShell(700, 0.6, rng);
-    PointTreeSettings treeSettings;
-    treeSettings.branching = 2 + 3 * (field % 3);
-    const PointTree tree(shell, treeSettings);
-    const Box3 poses = expanded(grid.grid().box(), 3.0);
+    const auto& [grid, tree, poses] = randomGridCase(100 + field, field, rng);
     for (int config = 0; config < 40; ++config) {
       const Rigid a = test::randomPose(poses, rng);
       // Half the steps are short (the simulation case), half span the expanded box (Table 3).
       Rigid b = test::randomPose(poses, rng);
-      if (config % 2 == 0) {
-        b.linear() = a.linear() * Eigen::AngleAxisd(0.2, Vec3::UnitZ()).toRotationMatrix();
-        b.translation() = a.translation() + 0.1 * (b.translation() - a.translation());
-      }
-      RigidCcdSettings s;
-      s.sigma = (config % 5 == 0) ? 0.05 : (config % 5 == 1 ? -0.05 : 0.0);
+      if (config % 2 == 0) b = shortStepFrom(a, b);
+      RigidCcdSettings s = variedGridSettings(config);
       s.mode = config % 4 == 3 ? CcdMode::FirstHit : CcdMode::AllIntervals;
       s.method = config % 3 == 2 ? CcdMethod::Bisection : CcdMethod::Exact;
-      s.octree = config % 7 == 3 ? OctreeMode::Leaves : (config % 7 == 5 ? OctreeMode::Off : OctreeMode::Full);
       const std::string what = "field " + std::to_string(field) + " config " + std::to_string(config);
       const RigidCcdResult linear = checkTreeEqualsLinear(tree, grid, a, b, s, what);
       contacts += static_cast<int>(linear.contacts.size());
@@ -235,7 +146,8 @@ int expectNoNodeCulledAboveAContact(const PointTree& tree, const Field& field, c
     tree.pointsUnder(n, under);
     if (std::none_of(under.begin(), under.end(), [&](int p) { return colliding[p]; })) continue;
     ++checked;
-    EXPECT_TRUE(pointTreeNodeMayCollide(tree, field, n, a, b, s)) << "node " << n << " culled above a contact, " << what;
+    EXPECT_TRUE(pointTreeNodeMayCollide(tree, field, n, a, b, s))
+        << "node " << n << " culled above a contact, " << what;
   }
   return checked;
 }
@@ -378,157 +290,6 @@ TEST(RigidCcd, BunnyShellEqualsLinearAgainstTheBunnyField) {
 
 TEST(RigidCcd, DragonShellEqualsLinearAgainstTheDragonField) {
   checkModel("dragon.off", 3000, 30);
-}
-
-// earliestOnly: the full linear query's contacts at its minimum fraction (sorted by point, as the full ones).
-RigidCcdResult earliestOf(const RigidCcdResult& full) {
-  RigidCcdResult expected;
-  expected.firstFraction = full.firstFraction;
-  for (const auto& c : full.contacts) {
-    if (c.fraction == full.firstFraction) expected.contacts.push_back(c);
-  }
-  return expected;
-}
-
-// Earliest-only tree, linear and threaded tree all equal the minimum of the full linear contacts, bit for bit.
-// Returns the full linear result.
-template <class Field>
-RigidCcdResult checkEarliest(const PointTree& tree, const Field& field, const Rigid& a, const Rigid& b,
-                             RigidCcdSettings s, const std::string& what) {
-  s.earliestOnly = false;
-  s.useTree = false;
-  s.threads = 1;
-  const RigidCcdResult full = run(tree, field, a, b, s);
-  const RigidCcdResult expected = earliestOf(full);
-  EXPECT_EQ(full.contacts.empty(), expected.contacts.empty()) << what;
-  s.earliestOnly = true;
-  expectSameContacts(expected, run(tree, field, a, b, s), what + " earliest linear");
-  s.useTree = true;
-  const RigidCcdResult treeResult = run(tree, field, a, b, s);
-  expectSameContacts(expected, treeResult, what + " earliest tree");
-  // Each node is tested at most once by the search and once by its pass for points starting inside.
-  EXPECT_LE(treeResult.stats.segmentQueries, full.stats.segmentQueries + 2 * tree.nodeCount()) << what;
-  s.threads = 2;
-  expectSameContacts(expected, run(tree, field, a, b, s), what + " earliest tree, 2 threads");
-  // earliestOneContact: the same fraction, bit for bit, and exactly one of the tied contacts.
-  s.earliestOneContact = true;
-  for (const bool useTree : {false, true}) {
-    s.useTree = useTree;
-    const std::string label = what + (useTree ? " one contact, tree" : " one contact, linear");
-    const RigidCcdResult one = run(tree, field, a, b, s);
-    EXPECT_EQ(one.firstFraction, expected.firstFraction) << label;
-    EXPECT_EQ(one.contacts.size(), expected.contacts.empty() ? 0u : 1u) << label;
-    if (one.contacts.size() != 1 || expected.contacts.empty()) continue;
-    const auto tied = std::find_if(expected.contacts.begin(), expected.contacts.end(),
-                                   [&](const PointContact& c) { return c.point == one.contacts[0].point; });
-    EXPECT_NE(tied, expected.contacts.end()) << label << ": the witness is not one of the earliest contacts";
-    if (tied == expected.contacts.end()) continue;
-    RigidCcdResult witness;
-    witness.contacts.push_back(*tied);
-    witness.firstFraction = expected.firstFraction;
-    expectSameContacts(witness, one, label);
-    EXPECT_LE(one.stats.segmentQueries, treeResult.stats.segmentQueries + (useTree ? 0 : tree.pointCount()))
-        << label;
-  }
-  return full;
-}
-
-TEST(RigidCcd, EarliestOnlyEqualsTheMinimumOfTheLinearContactsOnRandomGridFields) {
-  std::mt19937 rng(31);
-  int withContacts = 0;
-  int withoutContacts = 0;
-  int startsInside = 0;
-  std::int64_t earliestQueries = 0;
-  std::int64_t fullQueries = 0;
-  for (int field = 0; field < 6; ++field) {
-    const GridField grid(bumpyGrid(200 + field, field % 2 == 0 ? 0.0 : 0.05));
-    const PointShell shell = field % 3 == 2 ? sampleBowl(800, 5) : test::randomShell(700, 0.6, rng);
-    PointTreeSettings treeSettings;
-    treeSettings.branching = 2 + 3 * (field % 3);
-    const PointTree tree(shell, treeSettings);
-    const Box3 poses = expanded(grid.grid().box(), 3.0);
-    for (int config = 0; config < 40; ++config) {
-      Rigid a = test::randomPose(poses, rng);
-      Rigid b = test::randomPose(poses, rng);
-      if (config % 4 == 0) {  // short step (the simulation case)
-        b.linear() = a.linear() * Eigen::AngleAxisd(0.2, Vec3::UnitZ()).toRotationMatrix();
-        b.translation() = a.translation() + 0.1 * (b.translation() - a.translation());
-      } else if (config % 4 == 1) {  // starts at the field's centre: some points start inside
-        a.translation() = grid.grid().box().center();
-      } else if (config % 8 == 2) {  // far from the field: no contact
-        a.translation() = poses.max() + Vec3::Constant(5.0);
-        b.translation() = poses.max() + Vec3(6.0, 5.0, 7.0);
-      }
-      RigidCcdSettings s;
-      s.sigma = (config % 5 == 0) ? 0.05 : (config % 5 == 1 ? -0.05 : 0.0);
-      s.mode = config % 3 == 2 ? CcdMode::FirstHit : CcdMode::AllIntervals;
-      s.method = config % 6 == 5 ? CcdMethod::Bisection : CcdMethod::Exact;
-      s.octree = config % 7 == 3 ? OctreeMode::Leaves : (config % 7 == 5 ? OctreeMode::Off : OctreeMode::Full);
-      const std::string what = "field " + std::to_string(field) + " config " + std::to_string(config);
-      const RigidCcdResult full = checkEarliest(tree, grid, a, b, s, what);
-      if (full.contacts.empty()) {
-        ++withoutContacts;
-      } else {
-        ++withContacts;
-      }
-      for (const auto& c : full.contacts) {
-        if (c.state == SegmentState::StartsInside) {
-          ++startsInside;
-          break;
-        }
-      }
-      fullQueries += full.stats.segmentQueries;
-      s.earliestOnly = true;
-      earliestQueries += run(tree, grid, a, b, s).stats.segmentQueries;
-    }
-  }
-  EXPECT_GT(withContacts, 50);
-  EXPECT_GT(withoutContacts, 10);
-  EXPECT_GT(startsInside, 20);
-  EXPECT_LT(earliestQueries, fullQueries);  // branch and bound prunes
-}
-
-TEST(RigidCcd, EarliestOnlyEqualsTheMinimumOfTheLinearContactsOnAnalyticFields) {
-  std::mt19937 rng(41);
-  const PointTree tree(sampleBowl(600, 10));
-  const SphereField sphere(Vec3(0.2, -0.1, 0.3), 0.8);
-  const PlaneField plane(Vec3(0.3, 1.0, -0.2), 0.1);
-  const Box3 poses(Vec3::Constant(-2.5), Vec3::Constant(2.5));
-  int hits = 0;
-  int inside = 0;
-  for (int config = 0; config < 120; ++config) {
-    const Rigid a = test::randomPose(poses, rng);
-    const Rigid b = test::randomPose(poses, rng);
-    RigidCcdSettings s;
-    s.sigma = config % 3 == 0 ? 0.1 : 0.0;
-    s.mode = config % 2 == 0 ? CcdMode::AllIntervals : CcdMode::FirstHit;
-    // Ignored points must stay ignored in the earliest query too.
-    std::vector<std::uint8_t> ignoredPoints(static_cast<std::size_t>(tree.pointCount()), 0);
-    for (std::size_t p = 0; p < ignoredPoints.size(); p += 3) ignoredPoints[p] = 1;
-    if (config % 5 == 4) s.ignoredPoints = &ignoredPoints;
-    const std::string what = "config " + std::to_string(config);
-    const RigidCcdResult r = checkEarliest(tree, sphere, a, b, s, what + " sphere");
-    hits += r.contacts.empty() ? 0 : 1;
-    inside += r.firstFraction == 0.0 ? 1 : 0;
-    checkEarliest(tree, plane, a, b, s, what + " plane");
-  }
-  EXPECT_GT(hits, 40);
-  EXPECT_GT(inside, 5);
-  // A closed-form check: translation only onto the ground, the lowest point touches first.
-  const PlaneField ground = PlaneField::ground();
-  Rigid start = Rigid::Identity();
-  start.translation() = Vec3(0.0, 3.0, 0.0);
-  Rigid end = start;
-  end.translation() = Vec3(0.0, -0.5, 0.0);
-  double lowest = std::numeric_limits<double>::infinity();
-  for (const auto& x : tree.shell().positions) lowest = std::min(lowest, (start * x).y());
-  RigidCcdSettings s;
-  s.earliestOnly = true;
-  const RigidCcdResult r = run(tree, ground, start, end, s);
-  ASSERT_FALSE(r.contacts.empty());
-  EXPECT_NEAR(r.firstFraction, lowest / 3.5, 1e-14);
-  for (const auto& c : r.contacts) EXPECT_EQ(c.fraction, r.firstFraction);
-  EXPECT_LT(r.stats.segmentQueries, tree.pointCount() / 2);  // fewer than the linear query's
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "sdfccd/error.h"
+#include "sdfccd/field/trilinear.h"
 
 namespace sdfccd {
 
@@ -87,12 +88,8 @@ double SdfGrid::interpolate(const Vec3& pointInSdf, Vec3& outGradient) const {
   cellCorners(cell, c);
   const double x = w.x(), y = w.y(), z = w.z();
   // Interpolate along x, then y, then z; the gradient follows from the same partial sums.
-  const double c00 = c[0] + x * (c[1] - c[0]);
-  const double c10 = c[2] + x * (c[3] - c[2]);
-  const double c01 = c[4] + x * (c[5] - c[4]);
-  const double c11 = c[6] + x * (c[7] - c[6]);
-  const double c0 = c00 + y * (c10 - c00);
-  const double c1 = c01 + y * (c11 - c01);
+  const TrilinearSums s = trilinearSums(c, x, y);
+  const double c00 = s.c00, c10 = s.c10, c01 = s.c01, c11 = s.c11, c0 = s.c0, c1 = s.c1;
   const double dx0 = (c[1] - c[0]) + y * ((c[3] - c[2]) - (c[1] - c[0]));
   const double dx1 = (c[5] - c[4]) + y * ((c[7] - c[6]) - (c[5] - c[4]));
   outGradient.x() = (dx0 + z * (dx1 - dx0)) / m_spacing;

@@ -467,26 +467,29 @@ void leafNodes(const Context& ctx, const Block& box, const CandidateList& list, 
       }
 }
 
-// A box of nodes whose candidates are `parent` (a superset of every node's closest triangle): tightens the
-// list to this box (bound: exact centre distance + half-diagonal) and recurses into octants down to 2^3.
+// The corner nodes of a box of nodes in the grid's frame, its centre, and half its diagonal.
+struct BlockBounds {
+  Vec3 lo, hi, centre;
+  double radius;
+};
+
+BlockBounds blockBounds(const SdfGridLayout& layout, const Block& box) {
+  BlockBounds b;
+  b.lo = layout.origin + layout.spacing * box.begin.cast<double>();
+  b.hi = layout.origin + layout.spacing * (box.end - Vec3i::Ones()).cast<double>();
+  b.centre = 0.5 * (b.lo + b.hi);
+  b.radius = 0.5 * (b.hi - b.lo).norm();
+  return b;
+}
+
 void subdivide(const Context& ctx, const Block& box, int level, const CandidateList& parent, int warm, Scratch& s,
-               float* outDistance) {
-  const SdfGridLayout& layout = *ctx.layout;
-  const Vec3 lo = layout.origin + layout.spacing * box.begin.cast<double>();
-  const Vec3 hi = layout.origin + layout.spacing * (box.end - Vec3i::Ones()).cast<double>();
-  const Vec3 centre = 0.5 * (lo + hi);
-  const double radius = 0.5 * (hi - lo).norm();
-  double centre2 = ctx.bvh->squaredDistance(centre, warm);
-  int centrePosition = warm;
-  closestInList(ctx, parent, centre, centre2, centrePosition, s.screen);
-  CandidateList& list = s.level[level];
-  filterList(ctx, parent, lo, hi, std::sqrt(centre2) + radius, list);
-  const Vec3i size = box.end - box.begin;
-  if (size.maxCoeff() <= 2 || level + 1 >= kLevels) {
-    leafNodes(ctx, box, list, centrePosition, s, outDistance);
-    return;
-  }
-  const Vec3i half = (size + Vec3i::Ones()) / 2;
+               float* outDistance);
+
+// Splits `box` in halves along each axis (the first half the larger) and hands every non-empty octant to
+// subdivide() at `childLevel`, with `list` as its candidates and `warm` as its first guess.
+void subdivideOctants(const Context& ctx, const Block& box, int childLevel, const CandidateList& list, int warm,
+                      Scratch& s, float* outDistance) {
+  const Vec3i half = (box.end - box.begin + Vec3i::Ones()) / 2;
   for (int oz = 0; oz < 2; ++oz)
     for (int oy = 0; oy < 2; ++oy)
       for (int ox = 0; ox < 2; ++ox) {
@@ -497,25 +500,39 @@ void subdivide(const Context& ctx, const Block& box, int level, const CandidateL
           child.end[a] = o[a] ? box.end[a] : box.begin[a] + half[a];
         }
         if ((child.end.array() <= child.begin.array()).any()) continue;
-        subdivide(ctx, child, level + 1, list, centrePosition, s, outDistance);
+        subdivide(ctx, child, childLevel, list, warm, s, outDistance);
       }
+}
+
+// A box of nodes whose candidates are `parent` (a superset of every node's closest triangle): tightens the
+// list to this box (bound: exact centre distance + half-diagonal) and recurses into octants down to 2^3.
+void subdivide(const Context& ctx, const Block& box, int level, const CandidateList& parent, int warm, Scratch& s,
+               float* outDistance) {
+  const BlockBounds bounds = blockBounds(*ctx.layout, box);
+  double centre2 = ctx.bvh->squaredDistance(bounds.centre, warm);
+  int centrePosition = warm;
+  closestInList(ctx, parent, bounds.centre, centre2, centrePosition, s.screen);
+  CandidateList& list = s.level[level];
+  filterList(ctx, parent, bounds.lo, bounds.hi, std::sqrt(centre2) + bounds.radius, list);
+  const Vec3i size = box.end - box.begin;
+  if (size.maxCoeff() <= 2 || level + 1 >= kLevels) {
+    leafNodes(ctx, box, list, centrePosition, s, outDistance);
+    return;
+  }
+  subdivideOctants(ctx, box, level + 1, list, centrePosition, s, outDistance);
 }
 
 // The distance pass of one block of up to 8^3 nodes: candidates from the BVH, then subdivide(). Writes the
 // distance to outDistance, signed by the pseudonormal of the closest feature when ctx.normals is set.
 void distanceBlock(const Context& ctx, const Block& block, Scratch& s, float* outDistance) {
   const TriangleBvh& bvh = *ctx.bvh;
-  const SdfGridLayout& layout = *ctx.layout;
-  const Vec3 lo = layout.origin + layout.spacing * block.begin.cast<double>();
-  const Vec3 hi = layout.origin + layout.spacing * (block.end - Vec3i::Ones()).cast<double>();
-  const Vec3 centre = 0.5 * (lo + hi);
-  const double radius = 0.5 * (hi - lo).norm();
+  const BlockBounds bounds = blockBounds(*ctx.layout, block);
   double centre2 = std::numeric_limits<double>::infinity();
   int centrePosition = -1;
-  bvh.closest(centre, centre2, centrePosition);
-  const double bound = (std::sqrt(centre2) + radius) * tolerance::kSearchRadiusGrowth;
+  bvh.closest(bounds.centre, centre2, centrePosition);
+  const double bound = (std::sqrt(centre2) + bounds.radius) * tolerance::kSearchRadiusGrowth;
   s.bvhCandidates.clear();
-  bvh.collectNearBox(lo, hi, bound, s.bvhCandidates);
+  bvh.collectNearBox(bounds.lo, bounds.hi, bound, s.bvhCandidates);
   CandidateList& top = s.level[0];
   top.clear();
   for (const int q : s.bvhCandidates) {
@@ -529,19 +546,7 @@ void distanceBlock(const Context& ctx, const Block& block, Scratch& s, float* ou
     leafNodes(ctx, block, top, centrePosition, s, outDistance);
     return;
   }
-  const Vec3i half = (size + Vec3i::Ones()) / 2;
-  for (int oz = 0; oz < 2; ++oz)
-    for (int oy = 0; oy < 2; ++oy)
-      for (int ox = 0; ox < 2; ++ox) {
-        const Vec3i o(ox, oy, oz);
-        Block child;
-        for (int a = 0; a < 3; ++a) {
-          child.begin[a] = block.begin[a] + (o[a] ? half[a] : 0);
-          child.end[a] = o[a] ? block.end[a] : block.begin[a] + half[a];
-        }
-        if ((child.end.array() <= child.begin.array()).any()) continue;
-        subdivide(ctx, child, 1, top, centrePosition, s, outDistance);
-      }
+  subdivideOctants(ctx, block, 1, top, centrePosition, s, outDistance);
 }
 
 std::vector<Block> makeBlocks(const Vec3i& nodes) {

@@ -9,22 +9,10 @@
 #pragma once
 
 #include "sdfccd/ccd/cubic_roots.h"
+#include "sdfccd/field/trilinear.h"
 #include "sdfccd/math_types.h"
 
 namespace sdfccd {
-
-/// Trilinear interpolation of the eight corners (order 000, 100, 010, 110, 001, 101, 011, 111, x fastest)
-/// at local coordinates w in [0,1]^3.
-inline double trilinear(const double c[8], const Vec3& w) {
-  const double x = w.x(), y = w.y(), z = w.z();
-  const double c00 = c[0] + x * (c[1] - c[0]);
-  const double c10 = c[2] + x * (c[3] - c[2]);
-  const double c01 = c[4] + x * (c[5] - c[4]);
-  const double c11 = c[6] + x * (c[7] - c[6]);
-  const double c0 = c00 + y * (c10 - c00);
-  const double c1 = c01 + y * (c11 - c01);
-  return c0 + z * (c1 - c0);
-}
 
 /// The cubic g(beta) = phi(w(beta)) - sigma along the segment wIn -> wOut inside the cell (both in [0,1]^3).
 inline Cubic cellCubic(const double c[8], const Vec3& wIn, const Vec3& wOut, double sigma) {
