@@ -110,6 +110,7 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
   s.timeOfImpactClamp = scene.contact.timeOfImpactClamp;
   s.toiDepthCells = scene.contact.toiDepthCells;
   s.useTree = scene.contact.useTree;
+  s.mode = scene.contact.mode;
   return s;
 }
 
@@ -123,6 +124,8 @@ std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneB
   const btVector3 inertia = b.isStatic ? btVector3(0, 0, 0) : toBt(model.principalInertia(double(mass)));
   btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
   info.m_startWorldTransform = start;
+  info.m_friction = btScalar(b.friction);
+  info.m_restitution = btScalar(b.restitution);
   auto body = std::make_unique<btRigidBody>(info);
   if (!b.isStatic) {
     body->setLinearVelocity(toBt(b.velocity));

@@ -22,22 +22,28 @@ SdfccdCollisionAlgorithm::SdfccdCollisionAlgorithm(const btCollisionAlgorithmCon
                                                    bool closestPointsOnly)
     : btCollisionAlgorithm(info), m_system(system), m_closestPointsOnly(closestPointsOnly) {
   m_manifold = m_dispatcher->getNewManifold(wrap0->getCollisionObject(), wrap1->getCollisionObject());
-  // The solver turns only points with distance <= this threshold into constraints: ours stay reports.
+  // Penalty mode: the solver turns only points with distance <= this threshold into constraints, so ours stay
+  // reports. Solver mode sets Bullet's own value back in processPair.
   m_manifold->setContactProcessingThreshold(-BT_LARGE_FLOAT);
 }
 
 SdfccdCollisionAlgorithm::~SdfccdCollisionAlgorithm() {
+  SdfccdContactSystem::destroySolverPair(m_solverPair, m_dispatcher);
   if (m_manifold != nullptr) m_dispatcher->releaseManifold(m_manifold);
 }
 
 void SdfccdCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* wrap0,
                                                 const btCollisionObjectWrapper* wrap1,
                                                 const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut) {
-  m_system->processPair(wrap0, wrap1, dispatchInfo, resultOut, m_manifold, m_closestPointsOnly);
+  if (m_solverPair == nullptr && !m_closestPointsOnly && m_system->settings().mode == SdfccdContactMode::Solver) {
+    m_solverPair = SdfccdContactSystem::createSolverPair(m_dispatcher, m_manifold);
+  }
+  m_system->processPair(wrap0, wrap1, dispatchInfo, resultOut, m_manifold, m_solverPair, m_closestPointsOnly);
 }
 
 void SdfccdCollisionAlgorithm::getAllContactManifolds(btManifoldArray& manifoldArray) {
   if (m_manifold != nullptr) manifoldArray.push_back(m_manifold);
+  SdfccdContactSystem::solverPairManifolds(m_solverPair, manifoldArray);
 }
 
 btCollisionAlgorithm* SdfccdCollisionAlgorithm::CreateFunc::CreateCollisionAlgorithm(

@@ -78,6 +78,13 @@ void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
   if (settings.maxManifoldPoints < 0 || settings.maxManifoldPoints > 4) {
     throw Error("contact settings: maxManifoldPoints must be in 0..4");
   }
+  if (!(settings.speculativeMarginCells > 0.0) || !std::isfinite(settings.speculativeMarginCells) ||
+      !(settings.maxSpeculativeMargin > 0.0) || !std::isfinite(settings.maxSpeculativeMargin)) {
+    throw Error("contact settings: speculativeMarginCells and maxSpeculativeMargin must be positive and finite");
+  }
+  if (settings.mode == SdfccdContactMode::Solver && p.model == PenaltyModel::Discrete) {
+    throw Error("contact settings: contact.model discrete applies to penalty mode only (contact.mode is solver)");
+  }
   m_settings = settings;
 }
 
@@ -141,12 +148,18 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
 
 void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
                                       const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut,
-                                      btPersistentManifold* manifold, bool closestPointsOnly) {
+                                      btPersistentManifold* manifold, SdfccdSolverPair* solverPair,
+                                      bool closestPointsOnly) {
   const btCollisionShape* shape0 = wrap0->getCollisionShape();
   const btCollisionShape* shape1 = wrap1->getCollisionShape();
   const bool ours0 = isSdfccdShape(shape0);
   const bool ours1 = isSdfccdShape(shape1);
-  manifold->clearManifold();
+  // Solver mode keeps its points across steps (solver_manifolds.cpp); penalty mode reports afresh each step.
+  const bool solver = m_settings.mode == SdfccdContactMode::Solver && !closestPointsOnly && solverPair != nullptr;
+  if (!solver) {
+    manifold->clearManifold();
+    if (!closestPointsOnly) manifold->setContactProcessingThreshold(-BT_LARGE_FLOAT);
+  }
   resultOut->setPersistentManifold(manifold);
   const bool other1 = isPlane(shape1) || isSupportedConvex(shape1);
   if (!(ours0 && (ours1 || other1)) && !(ours1 && (isPlane(shape0) || isSupportedConvex(shape0)))) {
@@ -174,6 +187,22 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     return;
   }
 
+  // Which wrapper is the manifold's body 0 (Bullet may hand a pair over in either order).
+  const bool swapped = manifold->getBody0() != wrap0->getCollisionObject();
+  if (solver) {
+    m_candidates.clear();
+    m_candidateBounce.clear();
+    m_candidateMargin = 0.0;
+  }
+  // Penalty mode runs the role's penalty integrals, solver mode collects its candidates.
+  auto respond = [&](const Role& role, const auto& field, double cellSize) {
+    if (solver) {
+      collectSolverCandidates(role, field, cellSize, role.shellIsBody0 != swapped);
+    } else {
+      processRole(role, field, m_settings.toiDepthCells, cellSize, timeStep, resultOut, closestPointsOnly);
+    }
+  };
+
   // One role: the shell of `shellWrap` (ours, or a convex's surface points) against the field of `fieldWrap`
   // (ours, or a plane's or a convex's analytic field).
   auto runRole = [&](std::size_t shell, std::size_t field, const btCollisionObjectWrapper* shellWrap,
@@ -189,8 +218,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
       role.bodyFromField = fieldModel.bodyFromField();
       role.shellTree = isSdfccdShape(shellShape) ? &static_cast<const SdfccdShape*>(shellShape)->model().tree()
                                                  : &convexShellTree(shellShape, fieldModel.cellSize());
-      processRole(role, fieldModel.field(), m_settings.toiDepthCells, fieldModel.cellSize(), timeStep, resultOut,
-                  closestPointsOnly);
+      respond(role, fieldModel.field(), fieldModel.cellSize());
       return;
     }
     // An analytic field: depths are reported in cells of the shell body's own field.
@@ -200,11 +228,9 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (isPlane(fieldShape)) {
       const auto* plane = static_cast<const btStaticPlaneShape*>(fieldShape);
       const PlaneField planeField(toVec3(plane->getPlaneNormal()), double(plane->getPlaneConstant()));
-      processRole(role, planeField, m_settings.toiDepthCells, shellCell, timeStep, resultOut, closestPointsOnly);
+      respond(role, planeField, shellCell);
     } else {
-      withConvexField(fieldShape, [&](const auto& convexField) {
-        processRole(role, convexField, m_settings.toiDepthCells, shellCell, timeStep, resultOut, closestPointsOnly);
-      });
+      withConvexField(fieldShape, [&](const auto& convexField) { respond(role, convexField, shellCell); });
     }
   };
   // Every body with a shell takes the shell role once: ours always; a convex only against our field.
@@ -216,6 +242,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   } else if (isSupportedConvex(second)) {
     runRole(ours0 ? index1 : index0, ours0 ? index0 : index1, ours0 ? wrap1 : wrap0, ours0 ? wrap0 : wrap1, !ours0);
   }
+  if (solver) writeSolverManifolds(swapped ? wrap1 : wrap0, swapped ? wrap0 : wrap1, manifold, *solverPair);
 
   if (closestPointsOnly) {
     m_bodies.swap(savedBodies);

@@ -36,7 +36,7 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   r.checkObject(j, where);
   r.checkKeys(j,
               {"name", "mesh", "primitive", "sdf", "shell", "scale", "mass", "position", "orientation", "velocity",
-               "angular_velocity", "static", "points", "resolution", "padding"},
+               "angular_velocity", "static", "points", "resolution", "padding", "friction", "restitution"},
               where);
   SceneBody b;
   b.name = r.string(j, "name", where);
@@ -58,6 +58,15 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   if (j.contains("orientation")) b.orientation = r.unitQuaternion(j, "orientation", where);
   b.velocity = r.vec3(j, "velocity", where, Vec3::Zero());
   b.angularVelocity = r.vec3(j, "angular_velocity", where, Vec3::Zero());
+  b.friction = r.number(j, "friction", where, b.friction);
+  if (!(b.friction >= 0) || !std::isfinite(b.friction)) {
+    r.fail(Reader::join(where, "friction"), "must be finite and >= 0 (got " + Reader::numberText(b.friction) + ")");
+  }
+  b.restitution = r.number(j, "restitution", where, b.restitution);
+  if (!(b.restitution >= 0) || !std::isfinite(b.restitution)) {
+    r.fail(Reader::join(where, "restitution"),
+           "must be finite and >= 0 (got " + Reader::numberText(b.restitution) + ")");
+  }
   b.points = r.integer(j, "points", where, 0, 0, 10000000);
   b.resolution = r.integer(j, "resolution", where, 64, 4, 1024);
   b.padding = r.integer(j, "padding", where, 4, 1, 64);
@@ -131,7 +140,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.checkObject(c, "contact");
     r.checkKeys(c,
                 {"model", "stiffness", "damping", "friction", "subintervals", "toi_clamp", "toi_depth_cells", "tree",
-                 "force_timing", "direction"},
+                 "force_timing", "direction", "mode"},
                 "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
@@ -168,6 +177,15 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     s.contact.toiDepthCells = r.number(c, "toi_depth_cells", "contact", s.contact.toiDepthCells);
     if (!(s.contact.toiDepthCells >= 0)) r.fail("contact.toi_depth_cells", "must be >= 0");
     s.contact.useTree = r.boolean(c, "tree", "contact", s.contact.useTree);
+    const std::string mode = r.string(c, "mode", "contact");
+    if (mode == "solver") {
+      s.contact.mode = SdfccdContactMode::Solver;
+      if (model == "discrete") r.fail("contact.model", "applies to penalty mode only (contact.mode is solver)");
+    } else if (mode.empty() || mode == "penalty") {
+      s.contact.mode = SdfccdContactMode::Penalty;
+    } else {
+      r.fail("contact.mode", "must be penalty or solver (got '" + mode + "')");
+    }
   }
   if (!root.contains("bodies") || !root.at("bodies").is_array() || root.at("bodies").empty()) {
     r.fail("bodies", "must be a non-empty array");

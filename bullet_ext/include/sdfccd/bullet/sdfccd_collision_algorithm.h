@@ -5,7 +5,9 @@
 /// @details One instance per overlapping pair, pool-allocated by the dispatcher. It holds only two pointers
 /// and two flags (its size is checked at compile time against btConvexConvexAlgorithm, one of the built-in
 /// algorithms whose largest size sets the pool's element size), so it always fits the collision algorithm
-/// pool; scratch memory lives in the contact system. It owns one persistent manifold through which contacts are reported.
+/// pool; scratch memory lives in the contact system. It owns one persistent manifold through which contacts are
+/// reported and, in solver mode, up to three more (one per contact cluster) behind one pointer, released when unused
+/// and in the destructor.
 #pragma once
 
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
@@ -14,6 +16,7 @@
 namespace sdfccd {
 
 class SdfccdContactSystem;
+struct SdfccdSolverPair;
 
 class SdfccdCollisionAlgorithm : public btCollisionAlgorithm {
  public:
@@ -44,6 +47,7 @@ class SdfccdCollisionAlgorithm : public btCollisionAlgorithm {
  private:
   SdfccdContactSystem* m_system;
   btPersistentManifold* m_manifold = nullptr;
+  SdfccdSolverPair* m_solverPair = nullptr;  // solver mode: extra manifolds and last step's selection (owned)
   bool m_closestPointsOnly;
 };
 

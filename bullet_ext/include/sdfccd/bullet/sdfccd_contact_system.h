@@ -48,7 +48,9 @@
 
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/response/contact_mode.h"
 #include "sdfccd/response/contact_query.h"
+#include "sdfccd/response/contact_reduction.h"
 #include "sdfccd/response/force_timing.h"
 #include "sdfccd/response/penalty_model.h"
 #include "sdfccd/shell/point_tree.h"
@@ -61,14 +63,26 @@ class btCollisionAlgorithmCreateFunc;
 class btDiscreteDynamicsWorld;
 class btManifoldResult;
 class btPersistentManifold;
+class btDispatcher;
+template <typename T>
+class btAlignedObjectArray;
+typedef btAlignedObjectArray<btPersistentManifold*> btManifoldArray;
 struct btDispatcherInfo;
 
 namespace sdfccd {
 
 class SdfccdShape;
 
+struct SdfccdSolverPair;
+
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
+  /// Penalty (the paper's model) or Solver (speculative manifold points answered by Bullet's solver; see
+  /// solver_contacts.cpp). The default stays Penalty until the benchmark decides (issue 13).
+  SdfccdContactMode mode = SdfccdContactMode::Penalty;
+  /// Solver mode: CCD level set and speculative reach, in cells of the field, capped at maxSpeculativeMargin.
+  double speculativeMarginCells = 0.5;
+  double maxSpeculativeMargin = 0.002;              ///< m (model units)
   ForceTiming forceTiming = ForceTiming::SameStep;  ///< see ForceTiming
   PenaltySettings penalty;               ///< model (continuous/discrete), stiffness, damping, subintervals, flags
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
@@ -158,9 +172,17 @@ class SdfccdContactSystem : public btActionInterface {
 
   /// Called by SdfccdCollisionAlgorithm. `closestPointsOnly`: a contactTest query: report the points inside
   /// at the current poses, change nothing.
+  /// `solverPair`: the algorithm's solver-mode state (its extra manifolds; made with createSolverPair, owned by the
+  /// algorithm, destroyed with destroySolverPair); null in penalty mode.
   void processPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
                    const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut, btPersistentManifold* manifold,
-                   bool closestPointsOnly);
+                   SdfccdSolverPair* solverPair, bool closestPointsOnly);
+  /// A new solver pair for an algorithm whose own manifold is `primary`.
+  static SdfccdSolverPair* createSolverPair(btDispatcher* dispatcher, const btPersistentManifold* primary);
+  /// Releases a solver pair's extra manifolds (through `dispatcher`) and deletes it. Null is allowed.
+  static void destroySolverPair(SdfccdSolverPair* solverPair, btDispatcher* dispatcher);
+  /// Appends the solver pair's manifolds (the extra ones; the algorithm adds its own).
+  static void solverPairManifolds(const SdfccdSolverPair* solverPair, btManifoldArray& manifoldArray);
 
  private:
   struct BodyStep;
@@ -173,6 +195,14 @@ class SdfccdContactSystem : public btActionInterface {
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
+  /// Solver mode, one role: the CCD with the speculative margin, each listed point as a candidate at the step's
+  /// start (appended to m_candidates; normals on the manifold's body 1). `shellIsManifoldBody0`: the shell
+  /// belongs to the manifold's body 0.
+  template <class Field>
+  void collectSolverCandidates(const Role& role, const Field& field, double cellSize, bool shellIsManifoldBody0);
+  /// Solver mode, the whole pair: reduction and the manifold points (solver_manifolds.cpp).
+  void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
+                            btPersistentManifold* primary, SdfccdSolverPair& pair);
 
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
@@ -181,7 +211,11 @@ class SdfccdContactSystem : public btActionInterface {
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
   std::vector<SdfccdPairContact> m_lastContacts;
-  ContactQueryResult m_scratch;  // reused by every role: keeps the CCD's buffers
+  ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
+  RigidCcdResult m_solverCcd;                  // solver mode: the speculative CCD's buffers
+  std::vector<ContactCandidate> m_candidates;  // solver mode: the current pair's candidates (both roles)
+  std::vector<double> m_candidateBounce;       // solver mode: per candidate, d / (approach speed dt) (see writer)
+  double m_candidateMargin = 0.0;              // solver mode: the current pair's largest speculative margin (m)
   RigidCcdResult m_shadowScratch;
   std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;

@@ -23,9 +23,11 @@ struct SceneBody {
   Vec3 velocity = Vec3::Zero();         ///< m/s, of the centre of mass
   Vec3 angularVelocity = Vec3::Zero();  ///< rad/s, world
   bool isStatic = false;
-  int points = 0;       ///< shell points (0: mesh vertices)
-  int resolution = 64;  ///< SDF cells along the longest side
-  int padding = 4;      ///< SDF padding cells
+  double friction = 0.5;     ///< Bullet's btRigidBody friction (combined per pair by Bullet's rule)
+  double restitution = 0.0;  ///< Bullet's btRigidBody restitution (combined per pair by Bullet's rule)
+  int points = 0;            ///< shell points (0: mesh vertices)
+  int resolution = 64;       ///< SDF cells along the longest side
+  int padding = 4;           ///< SDF padding cells
 };
 
 }  // namespace sdfccd
