@@ -23,7 +23,11 @@ struct SceneBody {
   Vec3 velocity = Vec3::Zero();         ///< m/s, of the centre of mass
   Vec3 angularVelocity = Vec3::Zero();  ///< rad/s, world
   bool isStatic = false;
-  int points = 0;       ///< shell points (0: mesh vertices)
+  bool kinematic = false;  ///< "kinematic": infinite mass, moved each step by `velocity` (and angularVelocity)
+  int points = 0;          ///< shell points (0: mesh vertices)
+  /// "points" was given. A box primitive without it gets its surface sampled (body_model.h, boxHalfExtents);
+  /// an explicit "points": 0 keeps the mesh's vertices (its 8 corners), as the paper-style scenes and tests ask.
+  bool pointsGiven = false;
   int resolution = 64;  ///< SDF cells along the longest side
   int padding = 4;      ///< SDF padding cells
 };
