@@ -5,21 +5,26 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/response/friction_anchor.h"
+#include "sdfccd/response/time_of_impact_clamp.h"
 
 class btRigidBody;
 
 namespace sdfccd {
 
-/// The motion of one collision object over the current step.
+/// The motion of one collision object over the current step (motion_prediction.h).
 struct SdfccdContactSystem::BodyStep {
   const btCollisionObject* object = nullptr;
-  btRigidBody* body = nullptr;  // null unless a dynamic rigid body
-  Rigid worldFromBodyStart = Rigid::Identity();
+  btRigidBody* body = nullptr;                   // null unless a dynamic rigid body that is awake
+  bool kinematic = false;                        // infinite mass, moving
+  Rigid worldFromBodyStart = Rigid::Identity();  // centre-of-mass frame
   Rigid worldFromBodyEnd = Rigid::Identity();
   BodyVelocities velocity;  // of the centre of mass, which is the body origin
+  BodyInverseMass mass;     // zero unless `body`
   double clampFraction = 1.0;
   bool clamped = false;
 
@@ -36,7 +41,9 @@ struct SdfccdContactSystem::Record {
   double maxPenetrationCells = 0.0;
   double firstFraction = 1.0;
   bool clamp = false;
-  bool applied = false;  // SameStep: the penalty impulses are already in the velocities
+  ClampAction action = ClampAction::None;  // Rewind or KinematicPush when clamp
+  double timeStep = 0.0;                   // s
+  bool applied = false;                    // SameStep: the penalty impulses are already in the velocities
   double clampFraction = 1.0;
   struct ClampPoint {
     Vec3 pointInShell = Vec3::Zero();
@@ -58,7 +65,21 @@ struct SdfccdContactSystem::Role {
   std::size_t field = 0;
   const PointTree* shellTree = nullptr;  // our model's tree, or a convex shape's surface points
   Rigid bodyFromField = Rigid::Identity();
+  Rigid bodyFromShellChild = Rigid::Identity();  // the shell wrapper's frame in its body (compound child)
+  Rigid bodyFromFieldChild = Rigid::Identity();  // the field wrapper's frame in its body
   bool shellIsBody0 = true;
+  double roleScale = 1.0;                  // s_r: 1/2 when the pair runs both roles
+  double friction = 0.0;                   // mu of the pair (combined, or the settings' override)
+  double dampingRatio = -1.0;              // zeta of the pair (from its restitution, or the settings')
+  FrictionAnchorTable* anchors = nullptr;  // this pair and role's anchors, kept across steps
+};
+
+/// The friction anchors of one pair and role, kept across steps (design 2.4), keyed by the pair's manifold.
+struct SdfccdContactSystem::AnchorSlot {
+  FrictionAnchorTable table;
+  const btCollisionObject* shellObject = nullptr;  // a reused manifold with other objects starts afresh
+  const btCollisionObject* fieldObject = nullptr;
+  std::int64_t lastStep = -1;  // dropped when a step passes without its pair
 };
 
 }  // namespace sdfccd

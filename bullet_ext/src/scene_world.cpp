@@ -2,6 +2,7 @@
 /// @brief SceneWorld (see scene_world.h).
 #include "sdfccd/bullet/scene_world.h"
 
+#include <LinearMath/btTransformUtil.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <chrono>
@@ -72,7 +73,7 @@ void checkSceneState(const Scene& scene) {
       throw Error(who + "angular velocity is not finite " + vectorText(b.angularVelocity));
     }
     if (!std::isfinite(b.scale) || !(b.scale > 0)) throw Error(who + "scale must be finite and > 0");
-    if (!b.isStatic && (!std::isfinite(b.mass) || !(b.mass > 0))) {
+    if (!b.isStatic && !b.kinematic && (!std::isfinite(b.mass) || !(b.mass > 0))) {
       throw Error(who + "mass must be finite and > 0 (got " + std::to_string(b.mass) + ")");
     }
   }
@@ -99,7 +100,12 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene) {
   SdfccdContactSettings s;
   s.penalty.model = scene.contact.model;
   s.penalty.stiffness = scene.contact.stiffness;
+  s.penalty.stiffnessPerArea = scene.contact.stiffnessPerArea;
   s.penalty.damping = scene.contact.damping;
+  s.penalty.dampingRatio = scene.contact.dampingRatio;
+  s.penalty.dampingRatioFromRestitution = scene.contact.dampingFromRestitution;
+  s.penalty.frictionFromBodies = scene.contact.frictionFromBodies;
+  s.penalty.frictionModel = scene.contact.frictionModel;
   s.penalty.subintervals = scene.contact.subintervals;
   s.penalty.enableDamping = scene.has("damping");
   s.penalty.enableRotation = scene.has("rotation");
@@ -120,14 +126,19 @@ std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneB
   const Quat q(worldFromBody.linear());
   btTransform start(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
                     toBt(Vec3(worldFromBody.translation())));
-  const btScalar mass = b.isStatic ? btScalar(0) : btScalar(b.mass);
-  const btVector3 inertia = b.isStatic ? btVector3(0, 0, 0) : toBt(model.principalInertia(double(mass)));
+  const bool fixedMass = b.isStatic || b.kinematic;
+  const btScalar mass = fixedMass ? btScalar(0) : btScalar(b.mass);
+  const btVector3 inertia = fixedMass ? btVector3(0, 0, 0) : toBt(model.principalInertia(double(mass)));
   btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
   info.m_startWorldTransform = start;
   info.m_friction = btScalar(b.friction);
   info.m_restitution = btScalar(b.restitution);
   auto body = std::make_unique<btRigidBody>(info);
-  if (!b.isStatic) {
+  if (b.kinematic) {
+    // Moved by SceneWorld::step; Bullet derives its velocity from the moves (saveKinematicState).
+    body->setCollisionFlags(body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+    body->setActivationState(DISABLE_DEACTIVATION);
+  } else if (!b.isStatic) {
     body->setLinearVelocity(toBt(b.velocity));
     if (scene.has("rotation")) {
       body->setAngularVelocity(toBt(b.angularVelocity));
@@ -150,6 +161,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   if (settings.stiffness) {
     if (!(*settings.stiffness > 0) || !std::isfinite(*settings.stiffness)) throw Error("stiffness must be positive");
     m_scene.contact.stiffness = *settings.stiffness;
+    m_scene.contact.stiffnessPerArea = 0.0;  // a per-point stiffness: the paper's law
   }
   if (settings.timeOfImpactClamp) m_scene.contact.timeOfImpactClamp = *settings.timeOfImpactClamp;
   if (settings.useTree) m_scene.contact.useTree = *settings.useTree;
@@ -226,6 +238,16 @@ void SceneWorld::step() {
                   what + " at frame " + std::to_string(m_frame));
     }
   }
+  // Kinematic bodies move by their scene velocity; Bullet takes their velocity from the move.
+  for (int i = 0; i < bodyCount(); ++i) {
+    const SceneBody& b = m_scene.bodies[static_cast<std::size_t>(i)];
+    if (!b.kinematic) continue;
+    btRigidBody& body = *m_bodies[static_cast<std::size_t>(i)];
+    btTransform next;
+    btTransformUtil::integrateTransform(body.getWorldTransform(), toBt(b.velocity), toBt(b.angularVelocity),
+                                        btScalar(m_scene.timestep), next);
+    body.setWorldTransform(next);
+  }
   const double ccdBefore = m_contacts->statistics().ccdSeconds;
   const auto start = std::chrono::steady_clock::now();
   m_world->stepSimulation(btScalar(m_scene.timestep), 0);
@@ -258,8 +280,8 @@ SceneBodyState SceneWorld::bodyState(int i) const {
 double SceneWorld::kineticEnergy() const {
   double energy = 0.0;
   for (int i = 0; i < bodyCount(); ++i) {
-    if (isStatic(i)) continue;
     const btRigidBody& b = *m_bodies[static_cast<std::size_t>(i)];
+    if (isStatic(i) || !(b.getInvMass() > 0)) continue;  // static and kinematic bodies
     const double mass = 1.0 / double(b.getInvMass());
     const Vec3 v = toVec3(b.getLinearVelocity());
     const Vec3 wInBody = toVec3(b.getAngularVelocity() * b.getWorldTransform().getBasis());

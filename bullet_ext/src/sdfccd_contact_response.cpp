@@ -10,12 +10,48 @@
 #include "bullet_conversions.h"
 #include "contact_step.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/response/time_of_impact_clamp.h"
 
 namespace sdfccd {
 
 using detail::interpolatePose;
 using detail::kImpactIterations;
 using detail::toBt;
+using detail::toVec3;
+
+namespace {
+
+Mat3 toMat3(const btMatrix3x3& m) {
+  Mat3 out;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out(r, c) = m[r][c];
+  }
+  return out;
+}
+
+}  // namespace
+
+ImpactBody SdfccdContactSystem::impactBody(const BodyStep& b) {
+  ImpactBody out;
+  if (b.body != nullptr) {
+    out.inverseMass = double(b.body->getInvMass());
+    out.inverseInertiaInWorld = toMat3(b.body->getInvInertiaTensorWorld());
+    out.centerOfMass = toVec3(b.body->getCenterOfMassPosition());
+    out.linearVelocity = toVec3(b.body->getLinearVelocity());
+    out.angularVelocity = toVec3(b.body->getAngularVelocity());
+  } else if (b.kinematic) {
+    out.centerOfMass = b.worldFromBodyStart.translation();
+    out.linearVelocity = b.velocity.linearStart;
+    out.angularVelocity = b.velocity.angularStart;
+  }
+  return out;
+}
+
+void SdfccdContactSystem::setVelocities(const BodyStep& b, const ImpactBody& impact) {
+  if (b.body == nullptr) return;
+  b.body->setLinearVelocity(toBt(impact.linearVelocity));
+  b.body->setAngularVelocity(toBt(impact.angularVelocity));
+}
 
 void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {
   for (int side = 0; side < 2; ++side) {
@@ -25,9 +61,9 @@ void SdfccdContactSystem::applyPenaltyImpulses(const Record& r) {
     const Vec3& angular = side == 0 ? r.penalty.angularImpulseOnShell : r.penalty.angularImpulseOnField;
     if (impulse.isZero(0.0) && angular.isZero(0.0)) continue;
     if (!impulse.allFinite() || !angular.allFinite()) continue;  // never spread a NaN (see nonFinitePairs)
+    // No activate(): a body that is asleep has no `body` this step (motion_prediction.h).
     body->applyCentralImpulse(toBt(impulse));
     if (!angular.isZero(0.0)) body->applyTorqueImpulse(toBt(angular));
-    if (body->getActivationState() == ISLAND_SLEEPING) body->activate();
   }
 }
 
@@ -39,9 +75,10 @@ void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
   m_lastMaxPenetrationCells = 0.0;
   m_lastClamps = 0;
 
-  // 1. Time-of-impact clamping: each dynamic body goes back to its earliest clamp fraction.
+  // 1. Time-of-impact clamping: each dynamic body goes back to its earliest clamp fraction (pairs with a
+  //    kinematic body are never rewound: time_of_impact_clamp.h).
   for (const Record& r : m_records) {
-    if (!r.clamp) continue;
+    if (!r.clamp || r.action != ClampAction::Rewind) continue;
     for (std::size_t side : {r.shell, r.field}) {
       BodyStep& b = m_bodies[side];
       if (b.body != nullptr) b.clampFraction = std::min(b.clampFraction, r.clampFraction);
@@ -54,47 +91,36 @@ void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
     ++m_lastClamps;
     ++m_stats.clamps;
   }
-  // 2. Inelastic impact: sequential impulses at the entering points remove their approaching normal
-  //    velocity (accumulated impulse per point kept >= 0, so a later sweep may only take back what it gave).
+  // 2. Inelastic impact at the entering points (core: resolveInelasticImpact), with a kinematic body's own
+  //    velocity; then a dynamic body hit by a kinematic one follows what the kinematic advanced after the hit.
   for (const Record& r : m_records) {
     if (!r.clamp) continue;
-    btRigidBody* shell = m_bodies[r.shell].body;
-    btRigidBody* fieldBody = m_bodies[r.field].body;
-    // The points moved with the bodies to the clamp fraction; rebuild them from the shell's pose there.
-    std::vector<btScalar> accumulated(r.clampPoints.size(), btScalar(0));
-    for (int sweep = 0; sweep < kImpactIterations; ++sweep) {
-      for (std::size_t k = 0; k < r.clampPoints.size(); ++k) {
-        const btVector3 normal = toBt(r.clampPoints[k].normal);  // the shell may move along +normal
-        const btVector3 point = toBt(r.clampPoints[k].point);
-        btVector3 relativeVelocity(0, 0, 0);
-        btScalar denominator = 0;
-        btVector3 shellArm(0, 0, 0), fieldArm(0, 0, 0);
-        if (shell != nullptr) {
-          shellArm = point - shell->getCenterOfMassPosition();
-          relativeVelocity += shell->getVelocityInLocalPoint(shellArm);
-          denominator += shell->computeImpulseDenominator(point, normal);
-        }
-        if (fieldBody != nullptr) {
-          fieldArm = point - fieldBody->getCenterOfMassPosition();
-          relativeVelocity -= fieldBody->getVelocityInLocalPoint(fieldArm);
-          denominator += fieldBody->computeImpulseDenominator(point, normal);
-        }
-        if (!(denominator > 0)) continue;
-        const btScalar approach = relativeVelocity.dot(normal);
-        const btScalar next = std::max(btScalar(0), accumulated[k] - approach / denominator);
-        const btVector3 impulse = normal * (next - accumulated[k]);
-        accumulated[k] = next;
-        if (shell != nullptr) shell->applyImpulse(impulse, shellArm);
-        if (fieldBody != nullptr) fieldBody->applyImpulse(-impulse, fieldArm);
-      }
-    }
-    for (btRigidBody* body : {shell, fieldBody}) {
-      if (body != nullptr && body->getActivationState() == ISLAND_SLEEPING) body->activate();
-    }
+    ImpactBody shell = impactBody(m_bodies[r.shell]);
+    ImpactBody field = impactBody(m_bodies[r.field]);
+    std::vector<ImpactPoint> points;
+    points.reserve(r.clampPoints.size());
+    for (const Record::ClampPoint& p : r.clampPoints) points.push_back(ImpactPoint{p.point, p.normal});
+    resolveInelasticImpact(points, shell, field, kImpactIterations);
+    setVelocities(m_bodies[r.shell], shell);
+    setVelocities(m_bodies[r.field], field);
+    if (r.action != ClampAction::KinematicPush || r.clampPoints.empty()) continue;
+    ++m_stats.kinematicPushes;
+    const bool shellMoves = m_bodies[r.field].kinematic;
+    const BodyStep& kinematic = m_bodies[shellMoves ? r.field : r.shell];
+    BodyStep& moved = m_bodies[shellMoves ? r.shell : r.field];
+    if (moved.body == nullptr) continue;
+    const Vec3 normal = shellMoves ? r.clampPoints.front().normal : Vec3(-r.clampPoints.front().normal);
+    const Vec3 push = kinematicPushDistance(kinematic.velocity.linearStart, normal, r.clampFraction, r.timeStep);
+    if (push.isZero(0.0)) continue;
+    btTransform pose = moved.body->getCenterOfMassTransform();
+    pose.setOrigin(pose.getOrigin() + toBt(push));
+    moved.body->setCenterOfMassTransform(pose);
   }
   // 3. NextStep timing: penalty impulses (eq. 5: F* dt) of the pairs whose bodies were not moved back.
   for (const Record& r : m_records) {
-    const bool skip = r.applied || r.clamp || m_bodies[r.shell].clamped || m_bodies[r.field].clamped;
+    const bool rewound =
+        (r.clamp && r.action == ClampAction::Rewind) || m_bodies[r.shell].clamped || m_bodies[r.field].clamped;
+    const bool skip = r.applied || rewound;
     if (!skip) applyPenaltyImpulses(r);
     SdfccdPairContact report;
     report.shellObject = m_bodies[r.shell].object;
@@ -113,6 +139,9 @@ void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
     m_lastMaxPenetrationCells = std::max(m_lastMaxPenetrationCells, r.maxPenetrationCells);
   }
   m_stats.maxPenetrationCells = std::max(m_stats.maxPenetrationCells, m_lastMaxPenetrationCells);
+  for (auto it = m_anchorSlots.begin(); it != m_anchorSlots.end();) {
+    it = it->second->lastStep + 1 < m_stepCounter ? m_anchorSlots.erase(it) : std::next(it);
+  }
   m_records.clear();
   m_bodies.clear();
   m_bodyIndex.clear();

@@ -23,11 +23,13 @@
 #include "bullet_conversions.h"
 #include "contact_step.h"
 #include "convex_fields.h"
+#include "motion_prediction.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/response/contact_material.h"
 #include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd {
@@ -68,6 +70,13 @@ void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
       p.subintervals < 1) {
     throw Error("contact settings: stiffness and damping must be finite and >= 0, subintervals >= 1");
   }
+  if (!(p.stiffnessPerArea >= 0.0) || !std::isfinite(p.stiffnessPerArea)) {
+    throw Error("contact settings: stiffnessPerArea (contact.stiffness_per_area) must be finite and >= 0");
+  }
+  if (!(p.dampingRatio <= 2.0) || !std::isfinite(p.dampingRatio)) {
+    throw Error("contact settings: dampingRatio (contact.damping_ratio) must be in [0, 2]");
+  }
+  p.caps.validate();
   if (!(settings.toiDepthCells >= 0.0) || !std::isfinite(settings.toiDepthCells)) {
     throw Error("contact settings: toiDepthCells must be finite and >= 0");
   }
@@ -110,40 +119,31 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   const btCollisionObject* object = wrap->getCollisionObject();
   const auto found = m_bodyIndex.find(object);
   if (found != m_bodyIndex.end()) return m_bodies[found->second];
+  const detail::PredictedMotion motion = detail::predictBodyMotion(*object, timeStep);
   BodyStep step;
   step.object = object;
-  const btTransform start = wrap->getWorldTransform();
-  btTransform end = start;
-  const btRigidBody* rigid = btRigidBody::upcast(object);
-  if (rigid != nullptr && !rigid->isStaticOrKinematicObject()) {
-    step.body = const_cast<btRigidBody*>(rigid);  // impulses are applied later, in updateAction
-    // The symplectic Euler step Bullet's integrateVelocities + integrateTransforms will take (no contact
-    // constraints come from us): v' = v + F/m dt, w' = w + I^-1 tau dt, then the pose from (v', w').
-    const btVector3 v0 = rigid->getLinearVelocity();
-    const btVector3 w0 = rigid->getAngularVelocity();
-    btVector3 v1 = v0;
-    btVector3 w1 = w0;
-    if (rigid->isActive()) {
-      v1 += rigid->getTotalForce() * (rigid->getInvMass() * btScalar(timeStep));
-      w1 += rigid->getInvInertiaTensorWorld() * rigid->getTotalTorque() * btScalar(timeStep);
-    }
-    btTransformUtil::integrateTransform(start, v1, w1, btScalar(timeStep), end);
-    step.velocity.linearStart = toVec3(v0);
-    step.velocity.linearEnd = toVec3(v1);
-    step.velocity.angularStart = toVec3(w0);
-    step.velocity.angularEnd = toVec3(w1);
-  } else if (rigid != nullptr && rigid->isKinematicObject()) {
-    const btVector3 v = rigid->getLinearVelocity();
-    const btVector3 w = rigid->getAngularVelocity();
-    btTransformUtil::integrateTransform(start, v, w, btScalar(timeStep), end);
-    step.velocity.linearStart = step.velocity.linearEnd = toVec3(v);
-    step.velocity.angularStart = step.velocity.angularEnd = toVec3(w);
-  }
-  step.worldFromBodyStart = toRigid(start);
-  step.worldFromBodyEnd = toRigid(end);
+  step.body = motion.dynamicBody;
+  step.kinematic = motion.kinematic;
+  step.worldFromBodyStart = motion.worldFromBodyStart;
+  step.worldFromBodyEnd = motion.worldFromBodyEnd;
+  step.velocity = motion.velocity;
+  step.mass = motion.mass;
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
+}
+
+FrictionAnchorTable* SdfccdContactSystem::anchorTable(const btPersistentManifold* manifold, int role,
+                                                      const btCollisionObject* shell, const btCollisionObject* field) {
+  std::unique_ptr<AnchorSlot>& slot = m_anchorSlots[{manifold, role}];
+  if (!slot) slot = std::make_unique<AnchorSlot>();
+  if (slot->shellObject != shell || slot->fieldObject != field || slot->lastStep + 1 < m_stepCounter) {
+    slot->table.clear();  // another pair reuses the manifold, or the pair was not dispatched (asleep)
+    slot->shellObject = shell;
+    slot->fieldObject = field;
+  }
+  slot->lastStep = m_stepCounter;
+  return &slot->table;
 }
 
 void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
@@ -205,12 +205,34 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
 
   // One role: the shell of `shellWrap` (ours, or a convex's surface points) against the field of `fieldWrap`
   // (ours, or a plane's or a convex's analytic field).
+  // The pair's material, combined the Bullet way (design 2.6), unless the settings override it.
+  const PenaltySettings& penalty = m_settings.penalty;
+  const btCollisionObject* object0 = wrap0->getCollisionObject();
+  const btCollisionObject* object1 = wrap1->getCollisionObject();
+  const double friction =
+      penalty.frictionFromBodies ? double(gCalculateCombinedFrictionCallback(object0, object1)) : penalty.friction;
+  double dampingRatio = penalty.dampingRatio;
+  if (penalty.dampingRatioFromRestitution) {
+    const double e = double(gCalculateCombinedRestitutionCallback(object0, object1));
+    dampingRatio = dampingRatioFromRestitution(std::clamp(e, 0.0, 1.0));
+  }
+  const bool bothRoles = (ours0 && ours1) || isSupportedConvex(ours0 ? shape1 : shape0);
+  int roleIndex = 0;
   auto runRole = [&](std::size_t shell, std::size_t field, const btCollisionObjectWrapper* shellWrap,
                      const btCollisionObjectWrapper* fieldWrap, bool shellIsBody0) {
     Role role;
     role.shell = shell;
     role.field = field;
     role.shellIsBody0 = shellIsBody0;
+    role.bodyFromShellChild = detail::bodyFromChild(*shellWrap);
+    role.bodyFromFieldChild = detail::bodyFromChild(*fieldWrap);
+    role.roleScale = bothRoles ? 0.5 : 1.0;
+    role.friction = std::clamp(friction, 0.0, kMaxCombinedFriction);
+    role.dampingRatio = dampingRatio;
+    if (!closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor) {
+      role.anchors = anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
+    }
+    ++roleIndex;
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
     if (isSdfccdShape(fieldShape)) {
@@ -262,16 +284,22 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   // The frame contract of queryContacts (contact_query.h): the shell's points live in its body frame (whose
   // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
   // looks at the current poses: nothing moves.
+  // A compound child's frame sits at bodyFromChild in its body; handles go from the body's centre of mass.
   ShellMotion shellMotion;
-  shellMotion.worldFromShellStart = shell.worldFromBodyStart;
-  shellMotion.worldFromShellEnd = closestPointsOnly ? shell.worldFromBodyStart : shell.worldFromBodyEnd;
+  shellMotion.worldFromShellStart = shell.worldFromBodyStart * role.bodyFromShellChild;
+  shellMotion.worldFromShellEnd =
+      closestPointsOnly ? shellMotion.worldFromShellStart : Rigid(shell.worldFromBodyEnd * role.bodyFromShellChild);
+  shellMotion.centerOfMassInShell = role.bodyFromShellChild.inverse().translation();
   shellMotion.velocity = shell.velocity;
+  shellMotion.mass = shell.mass;
+  const Rigid bodyFromSdf = role.bodyFromFieldChild * role.bodyFromField;
   FieldMotion fieldMotion;
-  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * role.bodyFromField;
+  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
   fieldMotion.worldFromSdfEnd =
-      closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * role.bodyFromField);
-  fieldMotion.centerOfMassInSdf = role.bodyFromField.inverse().translation();
+      closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * bodyFromSdf);
+  fieldMotion.centerOfMassInSdf = bodyFromSdf.inverse().translation();
   fieldMotion.velocity = fieldBody.velocity;
+  fieldMotion.mass = fieldBody.mass;
   const Rigid& worldFromShellEnd = shellMotion.worldFromShellEnd;
   const Rigid& worldFromFieldStart = fieldMotion.worldFromSdfStart;
   const Rigid& worldFromFieldEnd = fieldMotion.worldFromSdfEnd;
@@ -279,6 +307,11 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   ContactQuerySettings query;
   query.penalty = m_settings.penalty;
   if (discrete) query.penalty.model = PenaltyModel::Discrete;
+  query.penalty.roleScale = role.roleScale;
+  query.penalty.friction = role.friction;
+  query.penalty.dampingRatio = role.dampingRatio;
+  query.cellSize = cellSize;
+  query.anchors = role.anchors;
   query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose
   query.octree = m_settings.octree;
   query.useTree = m_settings.useTree;
@@ -308,6 +341,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     m_stats.groundCcdSeconds += m_scratch.ccdSeconds;
     ++m_stats.groundCcdQueries;
   }
+  if (m_scratch.coefficients.stiffnessCapped) ++m_stats.softenedPairs;
   ++m_stats.ccdQueries;
   m_stats.segmentQueries += ccdResult.stats.segmentQueries;
   if (ccdResult.contacts.empty()) return;
@@ -353,6 +387,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
   record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
   record.firstFraction = ccdResult.firstFraction;
+  record.timeStep = timeStep;
 
   if (!discrete && m_settings.timeOfImpactClamp) {
     // A point that entered during the step and went deeper than the threshold (at an interval's middle, or
@@ -382,14 +417,15 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       if (entering.size() > kMaxClampPoints) entering.resize(kMaxClampPoints);
       record.clamp = true;
       record.clampFraction = entering.front().first;
+      record.action = clampAction(true, shell.kinematic, fieldBody.kinematic);
       for (auto& e : entering) {
-        const Vec3 startInWorld = shell.worldFromBodyStart * e.second.pointInShell;
-        e.second.point =
-            startInWorld + record.clampFraction * (shell.worldFromBodyEnd * e.second.pointInShell - startInWorld);
+        const Vec3 startInWorld = shellMotion.worldFromShellStart * e.second.pointInShell;
+        e.second.point = startInWorld +
+                         record.clampFraction * (shellMotion.worldFromShellEnd * e.second.pointInShell - startInWorld);
         record.clampPoints.push_back(e.second);
       }
     }
-    if (record.clamp) {
+    if (record.clamp && record.action == ClampAction::Rewind) {
       // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
       double deepest = 0.0;
       for (const PointContact& c : ccdResult.contacts) {
@@ -402,7 +438,9 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
       record.penalty.maxPenetration = deepest;
     }
   }
-  if (m_settings.forceTiming == ForceTiming::SameStep && !record.clamp) {
+  // A kinematic pair keeps its penalty impulses (it is never rewound).
+  if (m_settings.forceTiming == ForceTiming::SameStep &&
+      (!record.clamp || record.action == ClampAction::KinematicPush)) {
     applyPenaltyImpulses(record);
     record.applied = true;
   }

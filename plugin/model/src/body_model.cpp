@@ -2,6 +2,7 @@
 /// @brief BodyModel: build, cache and load (see body_model.h).
 #include "sdfccd/model/body_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include "sdfccd/mesh/sdf_builder.h"
 #include "sdfccd/model/mesh_file.h"
 #include "sdfccd/model/model_cache.h"
+#include "sdfccd/shell/analytic_shells.h"
 
 namespace sdfccd {
 namespace {
@@ -39,6 +41,31 @@ PointShell makeShell(const TriangleMesh& meshInBody, const BodyModelSettings& se
   sampling.points = settings.points;
   sampling.threads = settings.threads;
   return sampleShell(meshInBody, sampling);
+}
+
+/// Gives a shell that has no areas (files and the cache store none) its areas (see body_model.h).
+void ensureAreas(PointShell& shell, const TriangleMesh& meshInBody, int points) {
+  if (shell.hasAreas() || shell.empty()) return;
+  if (points == 0) {
+    const PointShell vertices = shellFromVertices(meshInBody);
+    if (vertices.size() == shell.size()) {
+      shell.areas = vertices.areas;
+      return;
+    }
+  }
+  assignUniformAreas(shell, meshInBody.area());
+}
+
+/// The sampled surface of a box primitive (design 2.7), in the body frame.
+PointShell boxPrimitiveShell(const Vec3& halfExtentsInModel, const BodyModelSettings& settings, double cellSize,
+                             const Rigid& bodyFromModel) {
+  const Vec3 half = halfExtentsInModel * settings.scale;
+  AnalyticShellSettings sampling;
+  sampling.spacing = std::max(cellSize, 2.0 * half.minCoeff() / 16.0);  // 16 points across the thinnest side
+  PointShell shell = boxShell(half, sampling);
+  for (Vec3& p : shell.positions) p = bodyFromModel * p;
+  for (Vec3& n : shell.normals) n = bodyFromModel.linear() * n;
+  return shell;
 }
 
 std::shared_ptr<const SdfGrid> buildGrid(const TriangleMesh& meshInBody, const BodyModelSettings& settings) {
@@ -82,7 +109,12 @@ std::shared_ptr<const BodyModel> BodyModel::buildFromMesh(const TriangleMesh& me
   checkSettings(settings);
   std::shared_ptr<BodyModel> model = assemble(meshInModel, settings.scale);
   model->m_field = std::make_unique<GridField>(buildGrid(model->m_meshInBody, settings));
-  model->m_tree = PointTree(makeShell(model->m_meshInBody, settings));
+  if (settings.boxHalfExtents && settings.points == 0) {
+    model->m_tree = PointTree(boxPrimitiveShell(*settings.boxHalfExtents, settings, model->m_field->spacing(),
+                                                model->m_modelFromBody.inverse()));
+  } else {
+    model->m_tree = PointTree(makeShell(model->m_meshInBody, settings));
+  }
   return model;
 }
 
@@ -105,7 +137,9 @@ std::shared_ptr<const BodyModel> BodyModel::buildFromMeshFile(const std::string&
   std::shared_ptr<BodyModel> model = assemble(meshInModel, settings.scale);
   const TriangleMesh& meshInBody = model->m_meshInBody;
   model->m_field = std::make_unique<GridField>(cache.field(name, key, [&] { return buildGrid(meshInBody, settings); }));
-  model->m_tree = PointTree(cache.shell(name, key, [&] { return makeShell(meshInBody, settings); }));
+  PointShell shell = cache.shell(name, key, [&] { return makeShell(meshInBody, settings); });
+  ensureAreas(shell, meshInBody, settings.points);
+  model->m_tree = PointTree(std::move(shell));
   return model;
 }
 
@@ -127,6 +161,7 @@ std::shared_ptr<const BodyModel> BodyModel::loadFromFiles(const std::string& mes
   const Rigid bodyFromModel = model->m_modelFromBody.inverse();
   for (Vec3& p : shell.positions) p = bodyFromModel * Vec3(p * s);
   for (Vec3& n : shell.normals) n = bodyFromModel.linear() * n;
+  assignUniformAreas(shell, model->m_meshInBody.area());  // a shell file stores no areas
   model->m_tree = PointTree(std::move(shell));
   return model;
 }

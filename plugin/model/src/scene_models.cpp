@@ -13,7 +13,7 @@ std::string modelKey(const SceneBody& b) {
   std::ostringstream key;
   key.precision(17);
   key << b.mesh << "|" << b.sdf << "|" << b.shell << "|" << b.scale << "|" << b.points << "|" << b.resolution << "|"
-      << b.padding;
+      << b.padding << "|" << b.pointsGiven;
   if (b.primitive) {
     const ScenePrimitive& p = *b.primitive;
     key << "|" << p.type << " " << p.halfExtents.transpose() << " " << p.radius << " " << p.height << " "
@@ -38,6 +38,7 @@ std::vector<std::shared_ptr<const BodyModel>> buildSceneModels(const Scene& scen
       ms.scale = b.scale;
       ms.threads = settings.threads;
       ms.cacheDir = settings.cacheDir;
+      if (b.primitive && b.primitive->type == "box" && !b.pointsGiven) ms.boxHalfExtents = b.primitive->halfExtents;
       std::shared_ptr<const BodyModel> model;
       if (b.primitive) {
         model = BodyModel::buildFromMesh(makePrimitiveMesh(*b.primitive), ms);

@@ -36,12 +36,15 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   r.checkObject(j, where);
   r.checkKeys(j,
               {"name", "mesh", "primitive", "sdf", "shell", "scale", "mass", "position", "orientation", "velocity",
-               "angular_velocity", "static", "points", "resolution", "padding", "friction", "restitution"},
+               "angular_velocity", "static", "kinematic", "points", "resolution", "padding", "friction",
+               "restitution"},
               where);
   SceneBody b;
   b.name = r.string(j, "name", where);
   if (b.name.empty()) b.name = "body" + std::to_string(index);
   b.isStatic = r.boolean(j, "static", where, false);
+  b.kinematic = r.boolean(j, "kinematic", where, false);
+  if (b.isStatic && b.kinematic) r.fail(Reader::join(where, "kinematic"), "and \"static\" are exclusive");
   b.mesh = r.file(j, "mesh", where);
   if (j.contains("primitive")) b.primitive = readPrimitive(r, j.at("primitive"), Reader::join(where, "primitive"));
   if (b.mesh.empty() == !b.primitive.has_value()) r.fail(where, "needs exactly one of \"mesh\" and \"primitive\"");
@@ -51,8 +54,8 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   if (!b.sdf.empty() && b.mesh.empty()) r.fail(where, "\"sdf\" and \"shell\" need a \"mesh\"");
   b.scale = r.number(j, "scale", where, 1.0);
   if (!(b.scale > 0)) r.fail(Reader::join(where, "scale"), "must be > 0 (got " + Reader::numberText(b.scale) + ")");
-  b.mass = r.number(j, "mass", where, 1.0, !b.isStatic);
-  if (!b.isStatic && !(b.mass > 0))
+  b.mass = r.number(j, "mass", where, 1.0, !b.isStatic && !b.kinematic);
+  if (!b.isStatic && !b.kinematic && !(b.mass > 0))
     r.fail(Reader::join(where, "mass"), "must be > 0 (got " + Reader::numberText(b.mass) + ")");
   b.position = r.vec3(j, "position", where, Vec3::Zero());
   if (j.contains("orientation")) b.orientation = r.unitQuaternion(j, "orientation", where);
@@ -68,6 +71,7 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
            "must be finite and >= 0 (got " + Reader::numberText(b.restitution) + ")");
   }
   b.points = r.integer(j, "points", where, 0, 0, 10000000);
+  b.pointsGiven = j.contains("points");
   b.resolution = r.integer(j, "resolution", where, 64, 4, 1024);
   b.padding = r.integer(j, "padding", where, 4, 1, 64);
   return b;
@@ -139,8 +143,8 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     const Json& c = root.at("contact");
     r.checkObject(c, "contact");
     r.checkKeys(c,
-                {"model", "stiffness", "damping", "friction", "subintervals", "toi_clamp", "toi_depth_cells", "tree",
-                 "force_timing", "direction", "mode"},
+                {"model", "stiffness", "stiffness_per_area", "damping", "damping_ratio", "friction", "friction_model",
+                 "subintervals", "toi_clamp", "toi_depth_cells", "tree", "force_timing", "direction", "mode"},
                 "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
@@ -150,12 +154,37 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     } else {
       r.fail("contact.model", "must be continuous or discrete (got '" + model + "')");
     }
+    if (c.contains("stiffness") && c.contains("stiffness_per_area")) {
+      r.fail("contact.stiffness", "and contact.stiffness_per_area are exclusive");
+    }
+    if (c.contains("damping") && c.contains("damping_ratio")) {
+      r.fail("contact.damping", "and contact.damping_ratio are exclusive");
+    }
     s.contact.stiffness = r.number(c, "stiffness", "contact", s.contact.stiffness);
     s.contact.damping = r.number(c, "damping", "contact", s.contact.damping);
     if (!(s.contact.stiffness > 0)) r.fail("contact.stiffness", "must be > 0");
     if (!(s.contact.damping >= 0)) r.fail("contact.damping", "must be >= 0");
+    if (c.contains("stiffness")) s.contact.stiffnessPerArea = 0.0;  // the paper's per-point law
+    s.contact.stiffnessPerArea = r.number(c, "stiffness_per_area", "contact", s.contact.stiffnessPerArea);
+    if (c.contains("stiffness_per_area") && !(s.contact.stiffnessPerArea > 0)) {
+      r.fail("contact.stiffness_per_area", "must be > 0 (got " + Reader::numberText(s.contact.stiffnessPerArea) + ")");
+    }
+    if (c.contains("damping") || c.contains("damping_ratio")) s.contact.dampingFromRestitution = false;
+    s.contact.dampingRatio = r.number(c, "damping_ratio", "contact", s.contact.dampingRatio);
+    if (c.contains("damping_ratio") && !(s.contact.dampingRatio >= 0 && s.contact.dampingRatio <= 2)) {
+      r.fail("contact.damping_ratio", "must be in [0, 2] (got " + Reader::numberText(s.contact.dampingRatio) + ")");
+    }
     s.contact.friction = r.number(c, "friction", "contact", s.contact.friction);
     if (!(s.contact.friction >= 0)) r.fail("contact.friction", "must be >= 0");
+    if (c.contains("friction")) s.contact.frictionFromBodies = false;
+    const std::string frictionModel = r.string(c, "friction_model", "contact");
+    if (frictionModel == "regularized") {
+      s.contact.frictionModel = FrictionModel::Regularized;
+    } else if (frictionModel.empty() || frictionModel == "anchor") {
+      s.contact.frictionModel = FrictionModel::Anchor;
+    } else {
+      r.fail("contact.friction_model", "must be anchor or regularized (got '" + frictionModel + "')");
+    }
     const std::string timing = r.string(c, "force_timing", "contact");
     if (timing == "next_step") {
       s.contact.forceTiming = ForceTiming::NextStep;
@@ -167,10 +196,12 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     const std::string direction = r.string(c, "direction", "contact");
     if (direction == "field_gradient") {
       s.contact.direction = PenaltyDirection::FieldGradient;
-    } else if (direction.empty() || direction == "shell_normal") {
+    } else if (direction == "shell_normal") {
       s.contact.direction = PenaltyDirection::ShellNormal;
+    } else if (direction.empty() || direction == "blend") {
+      s.contact.direction = PenaltyDirection::Blend;
     } else {
-      r.fail("contact.direction", "must be shell_normal or field_gradient (got '" + direction + "')");
+      r.fail("contact.direction", "must be blend, shell_normal or field_gradient (got '" + direction + "')");
     }
     s.contact.subintervals = r.integer(c, "subintervals", "contact", s.contact.subintervals, 1, 1000);
     s.contact.timeOfImpactClamp = r.boolean(c, "toi_clamp", "contact", s.contact.timeOfImpactClamp);

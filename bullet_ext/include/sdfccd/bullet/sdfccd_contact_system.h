@@ -32,7 +32,10 @@
 /// normal on B, negative distance) and through lastStepContacts(). The solver never answers them twice: our
 /// manifolds get a contact processing threshold of -BT_LARGE_FLOAT, and Bullet's solvers only turn points
 /// with distance <= that threshold into constraints.
-/// Sleeping: bodies may sleep by Bullet's velocity thresholds; a body that receives an impulse is woken.
+/// Sleeping, the Bullet way: a body that is not active is at rest with infinite mass for the step (no impulse,
+/// no activate()); Bullet's island manager wakes it when its island has an active member.
+/// Kinematic bodies are moving bodies of infinite mass: their velocity counts, the clamp never rewinds or drops
+/// their pairs (time_of_impact_clamp.h). Compound children each get their own pose (motion_prediction.h).
 ///
 /// Thread safety: one system per world; the narrowphase must be single threaded (btDiscreteDynamicsWorld,
 /// not btDiscreteDynamicsWorldMt). Models are shared read-only.
@@ -41,6 +44,7 @@
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -52,7 +56,9 @@
 #include "sdfccd/response/contact_query.h"
 #include "sdfccd/response/contact_reduction.h"
 #include "sdfccd/response/force_timing.h"
+#include "sdfccd/response/friction_anchor.h"
 #include "sdfccd/response/penalty_model.h"
+#include "sdfccd/response/time_of_impact_clamp.h"
 #include "sdfccd/shell/point_tree.h"
 
 class btCollisionDispatcher;
@@ -84,7 +90,9 @@ struct SdfccdContactSettings {
   double speculativeMarginCells = 0.5;
   double maxSpeculativeMargin = 0.002;              ///< m (model units)
   ForceTiming forceTiming = ForceTiming::SameStep;  ///< see ForceTiming
-  PenaltySettings penalty;               ///< model (continuous/discrete), stiffness, damping, subintervals, flags
+  /// Model (continuous/discrete), stiffness per area (or per point), damping ratio (or per point), direction,
+  /// friction law; new worlds get PenaltySettings::trustworthy() (issue 13).
+  PenaltySettings penalty = PenaltySettings::trustworthy();
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)
   bool useTree = true;                   ///< point tree (true) or point by point (the linear baseline)
@@ -126,6 +134,8 @@ struct SdfccdContactStatistics {
   std::int64_t ccdQueries = 0;        ///< rigid CCD queries (two per body pair and step)
   std::int64_t segmentQueries = 0;    ///< segment queries inside them
   std::int64_t clamps = 0;            ///< bodies moved back to a time of impact
+  std::int64_t kinematicPushes = 0;   ///< clamps against a kinematic body (no rewind; design 2.5)
+  std::int64_t softenedPairs = 0;     ///< roles whose stiffness the omega dt cap softened (design 2.2)
   std::int64_t unsupportedPairs = 0;  ///< processPair calls for pairs we do not handle (no contact)
   /// processPair calls skipped because a body's pose, velocity or motion was NaN or infinite: such a body
   /// gets no contact, so nothing non-finite reaches the other body (SceneWorld rejects it before the step).
@@ -188,8 +198,14 @@ class SdfccdContactSystem : public btActionInterface {
   struct BodyStep;
   struct Record;
   struct Role;
+  struct AnchorSlot;
   BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep);
+  /// The friction anchors of (manifold, role), created on first use and kept across steps.
+  FrictionAnchorTable* anchorTable(const btPersistentManifold* manifold, int role, const btCollisionObject* shell,
+                                   const btCollisionObject* field);
   void applyPenaltyImpulses(const Record& record);
+  static ImpactBody impactBody(const BodyStep& body);
+  static void setVelocities(const BodyStep& body, const ImpactBody& impact);
   /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
   const PointTree& convexShellTree(const btCollisionShape* shape, double fieldCellSize);
   template <class Field>
@@ -210,6 +226,7 @@ class SdfccdContactSystem : public btActionInterface {
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
+  std::map<std::pair<const btPersistentManifold*, int>, std::unique_ptr<AnchorSlot>> m_anchorSlots;
   std::vector<SdfccdPairContact> m_lastContacts;
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
   RigidCcdResult m_solverCcd;                  // solver mode: the speculative CCD's buffers

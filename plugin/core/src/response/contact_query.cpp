@@ -18,6 +18,7 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
   outResult.penaltyIntegrated = false;
   outResult.ccdSeconds = 0.0;
   outResult.penaltySeconds = 0.0;
+  outResult.coefficients = PairResponseCoefficients{};
 
   const bool discrete = settings.penalty.model == PenaltyModel::Discrete;
   RigidCcdSettings ccd;
@@ -40,8 +41,15 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
     return;
   }
   const double penaltyStart = clocks.penalty ? clocks.penalty() : 0.0;
+  PenaltyRoleInput input;
+  input.cellSize = settings.cellSize;
+  input.anchors = settings.anchors;
+  input.areas = &shellTree.shell().areas;
+  outResult.coefficients =
+      perAreaCoefficients(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep, settings.penalty, input);
   outResult.penalty =
-      integratePenalty(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep, settings.penalty);
+      integratePenalty(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep, settings.penalty, input);
+  outResult.penalty.stiffnessCapped = outResult.coefficients.stiffnessCapped;
   outResult.penaltyIntegrated = true;
   if (clocks.penalty) outResult.penaltySeconds = clocks.penalty() - penaltyStart;
 }

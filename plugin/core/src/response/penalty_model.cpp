@@ -1,6 +1,7 @@
 /// @file
 /// @brief The penalty model (Section 4.1, eqs. 3-5; see penalty_model.h), instantiated for every field type of
-/// field_interface.h.
+/// field_interface.h; beyond the paper: per-area stiffness with per-pair caps, the Blend direction and anchor
+/// friction (issue 13 design note, 2.1-2.4).
 #include "sdfccd/response/penalty_model.h"
 
 #include <algorithm>
@@ -22,6 +23,19 @@ void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double
       !std::isfinite(settings.damping)) {
     throw Error("penalty model: stiffness and damping must be finite and non-negative");
   }
+  if (!(settings.stiffnessPerArea >= 0.0) || !std::isfinite(settings.stiffnessPerArea)) {
+    throw Error("penalty model: stiffnessPerArea must be finite and non-negative");
+  }
+  if (!(settings.dampingRatio <= 2.0) || !std::isfinite(settings.dampingRatio)) {
+    throw Error("penalty model: dampingRatio must be at most 2 (negative: per-point damping)");
+  }
+  if (!(settings.roleScale > 0.0) || !(settings.roleScale <= 1.0)) {
+    throw Error("penalty model: roleScale must be in (0, 1]");
+  }
+  if (!(settings.blendStartCells >= 0.0) || !(settings.blendEndCells > settings.blendStartCells) ||
+      !std::isfinite(settings.blendEndCells)) {
+    throw Error("penalty model: blend cells must satisfy 0 <= blendStartCells < blendEndCells, finite");
+  }
   if (settings.subintervals < 1) throw Error("penalty model: subintervals must be at least 1");
   if (!(settings.friction >= 0.0) || !std::isfinite(settings.friction) || !(settings.frictionSlipSpeed > 0.0) ||
       !std::isfinite(settings.frictionSlipSpeed)) {
@@ -36,13 +50,22 @@ void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double
 
 namespace {
 
+/// Tangential damping c_t = share * c_i (design 2.4 takes c_t = c_i). The caps bound only the normal mode; with
+/// the full c_i the rocking mode of a resting box, damped by the normal and the tangential dampers together
+/// (lever arms: half its width and its half height), overshoots the explicit limit at zeta = 1 and 1 ms (a
+/// compound of two 10 cm boxes diverged with a period of 2 steps); half is stable and still holds the anchor.
+constexpr double kTangentialDampingShare = 0.5;
+
 /// Precomputed, per contact: the point's trajectory and what interpolates linearly in t.
 struct PenaltyPointPath {
   Vec3 pointInSdfStart, pointInSdfEnd;        // field frame
   Vec3 normalInWorldStart, normalInWorldEnd;  // shell's outward normal
   Vec3 handleShellStart, handleShellEnd;      // world, from the shell body's COM to the point
   Vec3 handleFieldStart, handleFieldEnd;      // world, from the field body's COM to the point
-  Mat3 worldFromSdfStart, worldFromSdfEnd;    // rotation of the field's frame (FieldGradient direction)
+  Mat3 worldFromSdfStart, worldFromSdfEnd;    // rotation of the field's frame (gradient, anchors)
+  double stiffness = 0.0;                     // k_i, N/m
+  double damping = 0.0;                       // c_i, N s/m
+  std::size_t anchor = 0;                     // index in the anchor table (anchor friction)
 };
 
 Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
@@ -67,24 +90,49 @@ PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& norm
   return path;
 }
 
+/// The unit direction the field body is pushed at fraction t, depth d (< 0); zero when there is none.
+template <class Field>
+Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t, double depth,
+                      const PenaltySettings& settings, double cellSize) {
+  const Vec3 shellNormal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
+  Vec3 normal = shellNormal;
+  if (settings.direction != PenaltyDirection::ShellNormal) {
+    double w = 0.0;  // weight of the shell normal
+    if (settings.direction == PenaltyDirection::Blend && cellSize > 0.0) {
+      const double d0 = settings.blendStartCells * cellSize;
+      const double d1 = settings.blendEndCells * cellSize;
+      const double x = std::clamp((-depth - d0) / (d1 - d0), 0.0, 1.0);
+      w = x * x * (3.0 - 2.0 * x);
+    }
+    if (w < 1.0) {
+      const Vec3 gradientInSdf = field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
+      Vec3 away = -lerp(path.worldFromSdfStart * gradientInSdf, path.worldFromSdfEnd * gradientInSdf, t);
+      const double awayLength = away.norm();
+      if (away.allFinite() && awayLength > 0.0) {  // else: the shell normal (a flat spot of phi)
+        away /= awayLength;
+        const double shellLength = shellNormal.norm();
+        const Vec3 blended = shellLength > 0.0 ? Vec3((1.0 - w) * away + w * (shellNormal / shellLength)) : away;
+        if (blended.norm() > 1e-6) normal = blended;  // opposed directions: the shell normal
+      }
+    }
+  }
+  const double normalLength = normal.norm();
+  if (!(normalLength > 0.0)) return Vec3::Zero();  // the normal turned half a turn during the step
+  return normal / normalLength;
+}
+
 /// Adds the force at fraction t, weighted by `weight` seconds, to `io`. Returns the depth d (model units).
 template <class Field>
 double addPenaltySample(const Field& field, const PenaltyPointPath& path, const ShellMotion& shell,
                         const FieldMotion& fieldBody, double t, double weight, const PenaltySettings& settings,
-                        bool useDamping, bool useFriction, PenaltyResult& io) {
-  const double depth = field.distance(lerp(path.pointInSdfStart, path.pointInSdfEnd, t)) - settings.sigma;
+                        const PenaltyRoleInput& input, bool useDamping, bool useFriction, PenaltyResult& io) {
+  const Vec3 pointInSdf = lerp(path.pointInSdfStart, path.pointInSdfEnd, t);
+  const double depth = field.distance(pointInSdf) - settings.sigma;
   if (!(depth < 0.0)) return depth;
-  Vec3 normal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
-  if (settings.direction == PenaltyDirection::FieldGradient) {
-    const Vec3 gradientInSdf = field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
-    const Vec3 away = -lerp(path.worldFromSdfStart * gradientInSdf, path.worldFromSdfEnd * gradientInSdf, t);
-    if (away.allFinite() && away.norm() > 0.0) normal = away;  // else: the shell normal (a flat spot of phi)
-  }
-  const double normalLength = normal.norm();
-  if (!(normalLength > 0.0)) return depth;  // the normal turned half a turn during the step: no direction
-  normal /= normalLength;
+  const Vec3 normal = penaltyDirection(field, path, t, depth, settings, input.cellSize);
+  if (normal.isZero(0.0)) return depth;
   ++io.samples;
-  double magnitude = -settings.stiffness * depth;  // N
+  double magnitude = -path.stiffness * depth;  // N
   const bool needVelocity = useDamping || useFriction;
   const bool needHandles = needVelocity || settings.enableRotation;
   Vec3 handleShell = Vec3::Zero();
@@ -106,17 +154,29 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
   if (useDamping) {
     ++io.dampingEvaluations;
     const double approachSpeed = relativeVelocity.dot(normal);  // m/s, > 0 approaching
-    magnitude = std::max(0.0, magnitude + settings.damping * approachSpeed);
+    magnitude = std::max(0.0, magnitude + path.damping * approachSpeed);
   }
   Vec3 impulseOnField = (weight * magnitude) * normal;
   if (useFriction) {
     ++io.frictionEvaluations;
-    // The field body drags the shell's point backwards: on the field, the force follows the slip.
-    const Vec3 slip = relativeVelocity - relativeVelocity.dot(normal) * normal;
-    const double slipSpeed = slip.norm();
-    if (slipSpeed > 0.0) {
-      const double scale = settings.friction * magnitude / std::max(slipSpeed, settings.frictionSlipSpeed);
-      impulseOnField += (weight * scale) * slip;
+    if (settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr) {
+      // The stretch from the anchor, fixed in the field's frame, taken to world with the field's rotation at t.
+      const Mat3 worldFromSdf = path.worldFromSdfStart + t * (path.worldFromSdfEnd - path.worldFromSdfStart);
+      const Vec3 stretchInWorld = worldFromSdf * (pointInSdf - input.anchors->anchors()[path.anchor].anchorInField);
+      FrictionSettings law;
+      law.friction = settings.friction;
+      law.tangentialStiffness = path.stiffness;
+      law.tangentialDamping = kTangentialDampingShare * path.damping;
+      const TangentialForce f = tangentialForce(stretchInWorld, Vec3::Zero(), normal, relativeVelocity, magnitude, law);
+      impulseOnField -= weight * f.force;  // f acts on the shell's point
+    } else {
+      // The field body drags the shell's point backwards: on the field, the force follows the slip.
+      const Vec3 slip = relativeVelocity - relativeVelocity.dot(normal) * normal;
+      const double slipSpeed = slip.norm();
+      if (slipSpeed > 0.0) {
+        const double scale = settings.friction * magnitude / std::max(slipSpeed, settings.frictionSlipSpeed);
+        impulseOnField += (weight * scale) * slip;
+      }
     }
   }
   io.impulseOnField += impulseOnField;
@@ -142,20 +202,82 @@ void finishPenaltyResult(double timestep, PenaltyResult& io) {
 }  // namespace
 
 template <class Field>
+PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                             const RigidCcdResult& ccd, const ShellMotion& shell,
+                                             const FieldMotion& fieldBody, double timestep,
+                                             const PenaltySettings& settings, PenaltyRoleInput& io) {
+  PairResponseCoefficients out;
+  io.stiffnessPerArea = 0.0;
+  io.dampingPerStiffness = -1.0;
+  if (!(settings.stiffnessPerArea > 0.0) || io.areas == nullptr || ccd.contacts.empty()) return out;
+  if (io.areas->size() != pointsInShell.size()) {
+    throw Error("penalty model: stiffnessPerArea needs one area per shell point (the shell has none)");
+  }
+  const double roleStiffnessPerArea = settings.roleScale * settings.stiffnessPerArea;
+  double roleStiffness = 0.0;
+  Vec3 centroid = Vec3::Zero();
+  Vec3 normalSum = Vec3::Zero();
+  const Mat3 worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
+  const Rigid sdfFromWorldEnd = fieldBody.worldFromSdfEnd.inverse();
+  for (const PointContact& c : ccd.contacts) {
+    const std::size_t i = static_cast<std::size_t>(c.point);
+    const double k = roleStiffnessPerArea * (*io.areas)[i];
+    const Vec3 pointInWorld = shell.worldFromShellEnd * pointsInShell[i];
+    roleStiffness += k;
+    centroid += k * pointInWorld;
+    const Vec3 gradient = worldFromSdfEnd * field.gradient(sdfFromWorldEnd * pointInWorld);
+    if (gradient.allFinite()) normalSum += k * gradient;
+  }
+  if (!(roleStiffness > 0.0)) return out;
+  centroid /= roleStiffness;
+  Vec3 normal = normalSum.norm() > 0.0 ? Vec3(normalSum.normalized()) : Vec3::UnitY();
+  const double inverseMass =
+      inverseEffectiveMassTerm(shell.mass.inverseMass, shell.mass.inverseInertiaInWorld,
+                               centroid - shell.worldFromShellEnd * shell.centerOfMassInShell, normal) +
+      inverseEffectiveMassTerm(fieldBody.mass.inverseMass, fieldBody.mass.inverseInertiaInWorld,
+                               centroid - fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf, normal);
+  const double zeta = settings.dampingRatio >= 0.0 ? settings.dampingRatio : 0.0;
+  out = pairResponseCoefficients(roleStiffness / settings.roleScale, inverseMass, zeta, timestep, settings.caps);
+  io.stiffnessPerArea = roleStiffnessPerArea * out.stiffnessScale;
+  io.dampingPerStiffness = settings.dampingRatio >= 0.0 ? out.dampingPerStiffness : -1.0;
+  return out;
+}
+
+template <class Field>
 PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
                                const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
-                               const PenaltySettings& settings) {
+                               const PenaltySettings& settings, const PenaltyRoleInput& input) {
   checkPenaltyInput(pointsInShell.size(), ccd, timestep, settings);
   PenaltyResult result;
-  const bool useDamping = settings.enableDamping && settings.damping > 0.0;
+  const bool perArea = input.stiffnessPerArea > 0.0 && input.areas != nullptr;
+  if (perArea && input.areas->size() != pointsInShell.size()) {
+    throw Error("penalty model: the areas must have one entry per shell point");
+  }
+  const bool dampingPerStiffness = input.dampingPerStiffness >= 0.0;
+  const bool useDamping =
+      settings.enableDamping && (dampingPerStiffness ? input.dampingPerStiffness > 0.0 : settings.damping > 0.0);
   const bool useFriction = settings.enableFriction && settings.friction > 0.0;
+  const bool anchored = useFriction && settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr;
+  const bool discrete = settings.model == PenaltyModel::Discrete;
   const int pieces = std::max(1, settings.subintervals);
+  if (anchored) input.anchors->beginMatch();
   for (const PointContact& contact : ccd.contacts) {
-    const PenaltyPointPath path = makePenaltyPointPath(pointsInShell[static_cast<std::size_t>(contact.point)],
-                                                       contact.pointNormalInShell, shell, fieldBody);
+    const std::size_t index = static_cast<std::size_t>(contact.point);
+    PenaltyPointPath path = makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, fieldBody);
+    path.stiffness = perArea ? input.stiffnessPerArea * (*input.areas)[index] : settings.stiffness;
+    path.damping = dampingPerStiffness ? input.dampingPerStiffness * path.stiffness : settings.damping;
+    if (anchored) {
+      // A new point is anchored where it entered: p_sdf(t_hit), p_sdf(0) if it starts inside, the end pose in
+      // the discrete model (its only sample).
+      const Vec3 entry = discrete ? path.pointInSdfEnd
+                         : contact.state == SegmentState::StartsInside
+                             ? path.pointInSdfStart
+                             : lerp(path.pointInSdfStart, path.pointInSdfEnd, std::clamp(contact.fraction, 0.0, 1.0));
+      path.anchor = input.anchors->matchNext(contact.point, entry);
+    }
     bool pushed = false;
-    if (settings.model == PenaltyModel::Discrete) {
-      pushed = addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, useDamping, useFriction,
+    if (discrete) {
+      pushed = addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, input, useDamping, useFriction,
                                 result) < 0.0;
     } else {
       for (std::size_t i = 0; i < contact.intervals.size(); ++i) {
@@ -164,23 +286,53 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
         if (!(width > 0.0)) continue;  // a touching instant carries no impulse
         for (int j = 0; j < pieces; ++j) {
           const double t = interval.begin + (j + 0.5) * width;
-          if (addPenaltySample(field, path, shell, fieldBody, t, width * timestep, settings, useDamping, useFriction,
-                               result) < 0.0) {
+          if (addPenaltySample(field, path, shell, fieldBody, t, width * timestep, settings, input, useDamping,
+                               useFriction, result) < 0.0) {
             pushed = true;
           }
         }
       }
     }
     if (pushed) ++result.contactCount;
+    if (anchored) {
+      // End of the step: the anchor slips if the spring's normal force at the end cannot hold its stretch.
+      const double depth = field.distance(path.pointInSdfEnd) - settings.sigma;
+      const Vec3 normalInWorld =
+          depth < 0.0 ? penaltyDirection(field, path, 1.0, depth, settings, input.cellSize) : Vec3::Zero();
+      FrictionSettings law;
+      law.friction = settings.friction;
+      law.tangentialStiffness = path.stiffness;
+      law.tangentialDamping = kTangentialDampingShare * path.damping;
+      const double normalForce = depth < 0.0 ? -path.stiffness * depth : 0.0;
+      const Vec3 normalInSdf = path.worldFromSdfEnd.transpose() * normalInWorld;
+      if (input.anchors->updateAnchor(path.anchor, path.pointInSdfEnd, normalInSdf, normalForce, law) ==
+          FrictionState::Slip) {
+        ++result.slippingPoints;
+      }
+    }
   }
+  if (anchored) input.anchors->endMatch();
   finishPenaltyResult(timestep, result);
   return result;
 }
 
-#define SDFCCD_INSTANTIATE_PENALTY(Field)                                                                       \
-  template PenaltyResult integratePenalty<Field>(const std::vector<Vec3>&, const Field&, const RigidCcdResult&, \
-                                                 const ShellMotion&, const FieldMotion&, double,                \
-                                                 const PenaltySettings&);
+template <class Field>
+PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
+                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
+                               const PenaltySettings& settings) {
+  return integratePenalty(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, PenaltyRoleInput{});
+}
+
+#define SDFCCD_INSTANTIATE_PENALTY(Field)                                                                            \
+  template PenaltyResult integratePenalty<Field>(const std::vector<Vec3>&, const Field&, const RigidCcdResult&,      \
+                                                 const ShellMotion&, const FieldMotion&, double,                     \
+                                                 const PenaltySettings&);                                            \
+  template PenaltyResult integratePenalty<Field>(const std::vector<Vec3>&, const Field&, const RigidCcdResult&,      \
+                                                 const ShellMotion&, const FieldMotion&, double,                     \
+                                                 const PenaltySettings&, const PenaltyRoleInput&);                   \
+  template PairResponseCoefficients perAreaCoefficients<Field>(                                                      \
+      const std::vector<Vec3>&, const Field&, const RigidCcdResult&, const ShellMotion&, const FieldMotion&, double, \
+      const PenaltySettings&, PenaltyRoleInput&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 #undef SDFCCD_INSTANTIATE_PENALTY
 

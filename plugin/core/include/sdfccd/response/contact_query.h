@@ -22,7 +22,8 @@
 /// - `integratePenalty = false`: the CCD only (a closest-point query at the current poses: give equal start and
 ///   end poses and the discrete model).
 /// The penalty model runs only when the CCD found a contact (PenaltyResult stays zero otherwise), after the
-/// settings are checked.
+/// settings are checked. With the per-area law (PenaltySettings::stiffnessPerArea > 0) the shell's point areas
+/// give k_i, and the pair's caps and damping ratio (perAreaCoefficients) are applied before integrating.
 ///
 /// Timing: the core keeps no clock. A caller that times the two phases passes its clocks (ContactQueryClocks);
 /// they are called once before and once after each phase, never inside the traversal.
@@ -46,6 +47,10 @@ struct ContactQuerySettings {
   bool useTree = true;                           ///< false: point by point (the linear baseline)
   int threads = 1;                               ///< CCD worker threads (0: all cores)
   bool integratePenalty = true;                  ///< false: the CCD only
+  double cellSize = 0.0;                         ///< the field's cell (model units): the Blend direction's band
+  /// io: this pair and role's friction anchors, kept by the caller across steps (FrictionModel::Anchor); null:
+  /// no anchor friction (the regularized law is used instead).
+  FrictionAnchorTable* anchors = nullptr;
 };
 
 /// Optional clocks of the two phases (seconds; any monotonic clock, e.g. thread CPU time). Null: not timed.
@@ -60,6 +65,7 @@ struct ContactQueryResult {
   Rigid sdfFromShellEnd = Rigid::Identity();    ///< and at its end (the discrete CCD ran at this pose only)
   RigidCcdResult ccd;                           ///< every contact, sorted by point index
   PenaltyResult penalty;                        ///< zero unless penaltyIntegrated
+  PairResponseCoefficients coefficients;        ///< per-area law: the caps' result for this role (penalty_model.h)
   bool penaltyIntegrated = false;               ///< the penalty model ran (asked for, and the CCD found contacts)
   double ccdSeconds = 0.0;                      ///< by ContactQueryClocks::ccd (0 without it)
   double penaltySeconds = 0.0;                  ///< by ContactQueryClocks::penalty (0 without it)

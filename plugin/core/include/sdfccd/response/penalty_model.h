@@ -40,6 +40,8 @@
 
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/math_types.h"
+#include "sdfccd/response/contact_material.h"
+#include "sdfccd/response/friction_anchor.h"
 
 namespace sdfccd {
 
@@ -53,6 +55,16 @@ enum class PenaltyModel : std::uint8_t {
 enum class PenaltyDirection : std::uint8_t {
   ShellNormal,    ///< the shell point's outward normal (paper, Section 4.1)
   FieldGradient,  ///< minus the field's normalized gradient at the point: conservative (beyond the paper)
+  /// The gradient while shallow, blended to the shell normal between blendStartCells and blendEndCells of depth
+  /// (smoothstep): conservative in resting and sliding contact, the paper's direction in deep impacts (issue 13
+  /// design note, 2.3).
+  Blend,
+};
+
+/// Which tangential law friction follows.
+enum class FrictionModel : std::uint8_t {
+  Regularized,  ///< |F_t| = mu F_n min(1, |v_t| / frictionSlipSpeed): creeps below atan mu (paper-like runs)
+  Anchor,       ///< stick-slip anchor per shell point (friction_anchor.h): holds below atan mu, exact Coulomb above
 };
 
 /// Settings of the penalty model.
@@ -71,6 +83,38 @@ struct PenaltySettings {
   double frictionSlipSpeed = 0.01;  ///< m/s; below it friction is viscous (keeps the explicit step stable)
   double sigma = 0.0;               ///< contact level set (model units); the CCD must use the same value
   PenaltyDirection direction = PenaltyDirection::ShellNormal;  ///< force direction (see the file comment)
+  double blendStartCells = 1.0;  ///< Blend: depth (field cells) where the shell normal starts to take over
+  double blendEndCells = 2.0;    ///< Blend: depth (field cells) from which the shell normal alone is used
+  FrictionModel frictionModel = FrictionModel::Regularized;  ///< tangential law (with enableFriction)
+  /// Stiffness per unit shell area k_A (N/m^3; issue 13 design note, 2.1). > 0: k_i = s_r k_A A_i from the shell's
+  /// point areas (s_r = roleScale), capped per pair and step (caps), and `stiffness` is not used. 0: the paper's
+  /// per-point `stiffness`, uncapped.
+  double stiffnessPerArea = 0.0;
+  double roleScale = 1.0;  ///< s_r: 1/2 when the pair runs both roles (each interface counted twice), else 1
+  /// Damping from a damping ratio zeta (dimensionless, [0, 2]) of the pair's spring (design 2.2):
+  /// c_i = 2 zeta k_i sqrt(m_eff / K), capped. Needs the bodies' masses (ShellMotion/FieldMotion); < 0: the
+  /// per-point `damping`.
+  double dampingRatio = -1.0;
+  /// Bullet: zeta = zeta(e) of the pair's combined restitution (contact_material.h), replacing dampingRatio.
+  bool dampingRatioFromRestitution = false;
+  /// Bullet: mu = the pair's combined friction (gCalculateCombinedFrictionCallback), replacing `friction`.
+  bool frictionFromBodies = false;
+  StabilityCapSettings caps;  ///< per-area law only: omega dt and C dt / m_eff caps per pair and step
+
+  /// The defaults of new Bullet worlds and scenes (issue 13): k_A = 1e7 N/m^3, zeta = 1 (Bullet: from the pair's
+  /// restitution), Blend direction, anchor friction on, mu = 0.5 until the pair's material says otherwise.
+  static PenaltySettings trustworthy() {
+    PenaltySettings s;
+    s.stiffnessPerArea = 1.0e7;
+    s.dampingRatio = 1.0;
+    s.dampingRatioFromRestitution = true;
+    s.frictionFromBodies = true;
+    s.direction = PenaltyDirection::Blend;
+    s.frictionModel = FrictionModel::Anchor;
+    s.enableFriction = true;
+    s.friction = 0.5;
+    return s;
+  }
 };
 
 /// How a body's centre of mass moves during the step: velocities linear in t between start and end.
@@ -85,12 +129,19 @@ struct BodyVelocities {
   }
 };
 
+/// A body's inverse mass properties for the per-pair caps (zero: static, kinematic or asleep: infinite mass).
+struct BodyInverseMass {
+  double inverseMass = 0.0;                   ///< 1/kg
+  Mat3 inverseInertiaInWorld = Mat3::Zero();  ///< 1/(kg m^2), world, at the step's start
+};
+
 /// The motion of the shell body during the step, in the frame of its points.
 struct ShellMotion {
   Rigid worldFromShellStart = Rigid::Identity();
   Rigid worldFromShellEnd = Rigid::Identity();
   Vec3 centerOfMassInShell = Vec3::Zero();  ///< model units
   BodyVelocities velocity;
+  BodyInverseMass mass;  ///< for the caps and the damping ratio (per-area law)
 
   /// A shell that does not move.
   static ShellMotion fixed(const Rigid& worldFromShell) {
@@ -108,6 +159,7 @@ struct FieldMotion {
   Rigid worldFromSdfEnd = Rigid::Identity();
   Vec3 centerOfMassInSdf = Vec3::Zero();  ///< model units
   BodyVelocities velocity;
+  BodyInverseMass mass;  ///< for the caps and the damping ratio (per-area law)
 
   /// A field that does not move (a static ground, a fixed obstacle).
   static FieldMotion fixed(const Rigid& worldFromSdf) {
@@ -136,7 +188,28 @@ struct PenaltyResult {
   std::int64_t dampingEvaluations = 0;
   std::int64_t torqueEvaluations = 0;
   std::int64_t frictionEvaluations = 0;
+  bool stiffnessCapped = false;  ///< per-area law: the omega dt cap softened this pair (design 2.2)
+  int slippingPoints = 0;        ///< anchor friction: points whose anchor slipped at the step's end
 };
+
+/// What a pair's role brings to the integrals beyond the settings (per-area law, blend band, anchors).
+struct PenaltyRoleInput {
+  const std::vector<double>* areas = nullptr;  ///< the shell's point areas (m^2), per-area law
+  double stiffnessPerArea = 0.0;               ///< N/m^3 after s_r and the cap: k_i = this A_i (0: per point)
+  double dampingPerStiffness = -1.0;           ///< s: c_i = this k_i (< 0: the per-point `damping`)
+  double cellSize = 0.0;                       ///< the field's cell (model units): the Blend band
+  FrictionAnchorTable* anchors = nullptr;      ///< io: this pair and role's anchors (FrictionModel::Anchor)
+};
+
+/// The per-area law's coefficients for one pair and role (design 2.1, 2.2): sums k_i = s_r k_A A_i over the
+/// contacts, takes m_eff along the contacts' mean field normal at their centroid and applies the caps
+/// (contact_material.h). `pairStiffnessFactor` turns the role's K into the pair's (1 / s_r: the other role
+/// is taken as its mirror). Fills `io.stiffnessPerArea` and `io.dampingPerStiffness`; returns the caps' result.
+template <class Field>
+PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                             const RigidCcdResult& ccd, const ShellMotion& shell,
+                                             const FieldMotion& fieldBody, double timestep,
+                                             const PenaltySettings& settings, PenaltyRoleInput& io);
 
 /// Integrates the penalty impulses of one (shell body, field body) pair over a step of `timestep` seconds.
 /// `pointsInShell` are the shell's points (the indices of `ccd.contacts` refer to them); each contact's
@@ -149,6 +222,12 @@ template <class Field>
 PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
                                const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
                                const PenaltySettings& settings);
+
+/// The same with the role's input (per-area stiffness, damping per stiffness, blend band, anchors).
+template <class Field>
+PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
+                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
+                               const PenaltySettings& settings, const PenaltyRoleInput& input);
 
 /// The checks of integratePenalty (throws sdfccd::Error).
 void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,

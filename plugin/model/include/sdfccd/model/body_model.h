@@ -13,6 +13,10 @@
 /// coordinates back to the mesh file's coordinates (after scaling), so a scene's pose of the mesh is worldFromModel =
 /// worldFromBody * modelFromBody^-1.
 ///
+/// Point areas (stiffness per unit area): every shell has them; a shell loaded from a file or the cache,
+/// which stores none, gets its mesh's barycentric vertex areas (vertex shells) or the mesh's area shared
+/// evenly (assignUniformAreas).
+///
 /// Uniform scaling is baked in at build time (settings.scale): the field and the shell are built from the
 /// scaled mesh and the cache key includes the scale. The Bullet shape rejects setLocalScaling.
 ///
@@ -23,6 +27,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "sdfccd/field/grid_field.h"
@@ -44,6 +49,10 @@ struct BodyModelSettings {
   int threads = 0;            ///< worker threads of the builds (0: all cores)
   std::string cacheDir;       ///< buildFromMeshFile's model cache folder (model_cache.h); empty: no cache
   ProgressCallback progress;  ///< optional, fraction of the SDF build done
+  /// A box primitive (half extents in model units, before `scale`): with points == 0 its shell is sampled on
+  /// its surface at max(1 cell, thinnest side / 16), edges and corners included (issue 13 design note, 2.7),
+  /// not just its 8 corners.
+  std::optional<Vec3> boxHalfExtents;
 };
 
 class BodyModel {

@@ -25,9 +25,13 @@ struct SceneBody {
   bool isStatic = false;
   double friction = 0.5;     ///< Bullet's btRigidBody friction (combined per pair by Bullet's rule)
   double restitution = 0.0;  ///< Bullet's btRigidBody restitution (combined per pair by Bullet's rule)
+  bool kinematic = false;    ///< "kinematic": infinite mass, moved each step by `velocity` (and angularVelocity)
   int points = 0;            ///< shell points (0: mesh vertices)
-  int resolution = 64;       ///< SDF cells along the longest side
-  int padding = 4;           ///< SDF padding cells
+  /// "points" was given. A box primitive without it gets its surface sampled (body_model.h, boxHalfExtents);
+  /// an explicit "points": 0 keeps the mesh's vertices (its 8 corners), as the paper-style scenes and tests ask.
+  bool pointsGiven = false;
+  int resolution = 64;  ///< SDF cells along the longest side
+  int padding = 4;      ///< SDF padding cells
 };
 
 }  // namespace sdfccd

@@ -8,11 +8,22 @@
 
 namespace sdfccd {
 
+/// New scenes get the issue-13 defaults (PenaltySettings::trustworthy()): stiffness per unit area, damping from
+/// the pair's restitution, the Blend direction and anchor friction with mu from the bodies. The paper's
+/// parameters stay available: "stiffness" (per point) replaces "stiffness_per_area", "damping" (per point)
+/// replaces the damping ratio, and the paper's scenes name them with "direction": "shell_normal" and
+/// "friction_model": "regularized".
 struct SceneContact {
   PenaltyModel model = PenaltyModel::Continuous;  ///< "model": continuous (Section 4.1) or discrete
-  double stiffness = 2000.0;                      ///< N/m per point
-  double damping = 5.0;                           ///< N s/m per point (used only with the "damping" effect)
-  double friction = 0.5;  ///< Coulomb coefficient (used only with the "friction" effect; beyond the paper)
+  double stiffness = 2000.0;                      ///< "stiffness": N/m per point (when stiffnessPerArea is 0)
+  double stiffnessPerArea = 1.0e7;                ///< "stiffness_per_area": N/m^3; 0 when "stiffness" is given
+  double damping = 5.0;  ///< "damping": N s/m per point (with the "damping" effect, when dampingRatio < 0)
+  /// "damping_ratio" zeta in [0, 2]; < 0: per-point damping when "damping" is given, else zeta from restitution.
+  double dampingRatio = -1.0;
+  bool dampingFromRestitution = true;  ///< neither "damping" nor "damping_ratio": zeta(e) of each pair
+  double friction = 0.5;           ///< "friction": a pair override of mu (with the "friction" effect; beyond the paper)
+  bool frictionFromBodies = true;  ///< no "friction" key: mu combined from the bodies (Bullet's rule)
+  FrictionModel frictionModel = FrictionModel::Anchor;  ///< "friction_model": anchor or regularized
   int subintervals = 5;
   bool timeOfImpactClamp = true;  ///< continuous model only
   double toiDepthCells = 0.5;     ///< field cells
@@ -20,11 +31,9 @@ struct SceneContact {
   ForceTiming forceTiming = ForceTiming::SameStep;  ///< when the penalty impulses act
   /// "mode": penalty (the paper's model, the default for now) or solver (Bullet's solver answers the contacts)
   SdfccdContactMode mode = SdfccdContactMode::Penalty;
-  /// The paper's shell normal by default: robust where points sink deep (the field's gradient turns at thin
-  /// parts: the 20-bunny drop's largest stable timestep is 2.5 ms with it, 1 ms with the gradient), but not
-  /// conservative (a box resting on its 8 corner points drifts; tests/bullet/stability_test.cpp), where
-  /// "field_gradient" is the choice.
-  PenaltyDirection direction = PenaltyDirection::ShellNormal;  ///< "direction": shell_normal or field_gradient
+  /// Blend by default: the field's gradient while shallow (conservative: a box rests and slides as Coulomb says),
+  /// the paper's shell normal past 2 cells (robust where points sink deep: the gradient turns at thin parts).
+  PenaltyDirection direction = PenaltyDirection::Blend;  ///< "direction": blend, shell_normal or field_gradient
 };
 
 }  // namespace sdfccd
