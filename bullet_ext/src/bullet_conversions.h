@@ -3,6 +3,7 @@
 /// pose interpolation of time-of-impact clamping. Private to sdfccd::bullet.
 #pragma once
 
+#include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btTransform.h>
 #include <LinearMath/btVector3.h>
 
@@ -12,6 +13,13 @@ namespace sdfccd::detail {
 
 inline Vec3 toVec3(const btVector3& v) {
   return Vec3(v.x(), v.y(), v.z());
+}
+inline Mat3 toMat3(const btMatrix3x3& m) {
+  Mat3 out;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out(r, c) = m[r][c];
+  }
+  return out;
 }
 inline btVector3 toBt(const Vec3& v) {
   return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));

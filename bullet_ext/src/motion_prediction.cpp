@@ -10,17 +10,6 @@
 #include "bullet_conversions.h"
 
 namespace sdfccd::detail {
-namespace {
-
-Mat3 toMat3(const btMatrix3x3& m) {
-  Mat3 out;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out(r, c) = m[r][c];
-  }
-  return out;
-}
-
-}  // namespace
 
 PredictedMotion predictBodyMotion(const btCollisionObject& object, double timeStep) {
   PredictedMotion m;

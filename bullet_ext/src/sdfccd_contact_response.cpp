@@ -17,19 +17,8 @@ namespace sdfccd {
 using detail::interpolatePose;
 using detail::kImpactIterations;
 using detail::toBt;
+using detail::toMat3;
 using detail::toVec3;
-
-namespace {
-
-Mat3 toMat3(const btMatrix3x3& m) {
-  Mat3 out;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out(r, c) = m[r][c];
-  }
-  return out;
-}
-
-}  // namespace
 
 ImpactBody SdfccdContactSystem::impactBody(const BodyStep& b) {
   ImpactBody out;

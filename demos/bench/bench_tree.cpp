@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/random_pose.h"
 #include "cli/bench_registry.h"
 #include "cli/progress_bar.h"
 #include "sdfccd/ccd/rigid_ccd.h"
@@ -79,16 +80,7 @@ double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-Rigid randomPose(const Box3& box, std::mt19937& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Quat q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  Rigid pose = Rigid::Identity();
-  pose.linear() = q.toRotationMatrix();
-  pose.translation() = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-  return pose;
-}
+using bench::randomPose;
 
 // The shell of a model: sampled by repulsion, from the cache when there.
 PointShell modelShell(const std::string& name, const TriangleMesh& mesh, int points, const std::string& cacheDir,

@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "../../demos/bench/random_pose.h"
 #include "sdfccd/shell/point_shell.h"
 #include "sdfccd/mesh/triangle_mesh.h"
 
@@ -118,16 +119,7 @@ inline PointShell randomShell(int count, double radius, std::mt19937& rng) {
   return shell;
 }
 
-/// A random rigid transform: rotation uniform, translation uniform in `box`.
-inline Rigid randomPose(const Box3& box, std::mt19937& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Quat q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  Rigid pose = Rigid::Identity();
-  pose.linear() = q.toRotationMatrix();
-  pose.translation() = box.min() + box.sizes().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-  return pose;
-}
+/// A random rigid transform: rotation uniform, translation uniform in `box` (the bench's Table 3 protocol).
+using bench::randomPose;
 
 }  // namespace sdfccd::test

@@ -13,6 +13,14 @@
 namespace sdfccd {
 namespace {
 
+/// The SDF of `mesh` at `resolution` cells along its longest side with `padding` cells around, default threads.
+SdfBuildResult buildSdfAt(const TriangleMesh& mesh, int resolution, int padding) {
+  SdfBuildSettings settings;
+  settings.resolution = resolution;
+  settings.padding = padding;
+  return buildSdf(mesh, settings);
+}
+
 Vec3 nodePosition(const SdfGrid& g, int i, int j, int k) {
   return g.origin() + g.spacing() * Vec3(i, j, k);
 }
@@ -34,10 +42,7 @@ TEST(SdfBuilder, BoxIsExactAtEveryNode) {
   const TriangleMesh mesh = test::boxMesh(h);
   ASSERT_GT(mesh.signedVolume(), 0.0);
   ASSERT_TRUE(isClosedAndOriented(mesh));
-  SdfBuildSettings settings;
-  settings.resolution = 20;
-  settings.padding = 3;
-  const SdfBuildResult r = buildSdf(mesh, settings);
+  const SdfBuildResult r = buildSdfAt(mesh, 20, 3);
   EXPECT_EQ(r.stats.signMethod, SdfSignMethod::Pseudonormal);
   const SdfGrid& g = *r.grid;
   EXPECT_EQ(g.nodeCounts(), Vec3i(27, 19, 23));  // 20 + 6 cells along x; ceil(12) + 6, ceil(16) + 6
@@ -53,10 +58,7 @@ TEST(SdfBuilder, BoxIsExactAtEveryNode) {
 
 TEST(SdfBuilder, TetrahedronIsExactWithTheRightSignEverywhere) {
   const TriangleMesh mesh = test::tetrahedronMesh();
-  SdfBuildSettings settings;
-  settings.resolution = 24;
-  settings.padding = 4;
-  const SdfBuildResult built1 = buildSdf(mesh, settings);
+  const SdfBuildResult built1 = buildSdfAt(mesh, 24, 4);
   const SdfGrid& g = *built1.grid;
   // Inside a convex polyhedron: behind every face plane.
   auto inside = [&](const Vec3& p) {
@@ -174,10 +176,7 @@ TEST(SdfBuilder, MeshWithAHoleGetsASensibleSign) {
   const MeshRepairReport report = repairMesh(mesh);
   EXPECT_FALSE(report.closed);
   EXPECT_GT(report.boundaryEdges, 0);
-  SdfBuildSettings settings;
-  settings.resolution = 16;
-  settings.padding = 3;
-  const SdfBuildResult r = buildSdf(mesh, settings);
+  const SdfBuildResult r = buildSdfAt(mesh, 16, 3);
   EXPECT_EQ(r.stats.signMethod, SdfSignMethod::WindingNumber);
   const SdfGrid& g = *r.grid;
   int checkedInside = 0, checkedOutside = 0;
@@ -203,10 +202,7 @@ TEST(SdfBuilder, OpenSheetIsUnsignedFarAwayAndExact) {
   TriangleMesh mesh;
   mesh.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
-  SdfBuildSettings settings;
-  settings.resolution = 8;
-  settings.padding = 2;
-  const SdfBuildResult built6 = buildSdf(mesh, settings);
+  const SdfBuildResult built6 = buildSdfAt(mesh, 8, 2);
   const SdfGrid& g = *built6.grid;
   EXPECT_EQ(g.nodeCounts().z(), 6);  // a flat mesh still gets one cell plus padding across
   forEachNode(g, [&](int, int, int, const Vec3& p, float v) {
