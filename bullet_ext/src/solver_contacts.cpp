@@ -65,21 +65,28 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
     Vec3 normalInSdf;
     double distance = 0.0;
     double bounce = 0.0;
+    const Vec3 p1 = sdfFromShellEnd * pointInShell;
     if (c.state == SegmentState::StartsInside) {
       normalInSdf = field.gradient(p0);
       distance = field.distance(p0);
     } else if (c.state == SegmentState::Hit) {
-      const Vec3 p1 = sdfFromShellEnd * pointInShell;
       const Vec3 hit = p0 + c.fraction * (p1 - p0);
       normalInSdf = c.fieldNormalInSdf;
       distance = normalInSdf.dot(p0 - hit) + margin;
-      // Bullet's solver aims a speculative point at the velocity restitution - d / dt: a bounce would lose d / dt.
-      // The writer adds d / (approach dt) to the restitution of such a point, so the rebound is e v.
-      const double approach = normalInSdf.dot(p0 - p1) / std::max(normalInSdf.norm(), 1e-12);
-      if (distance > 0.0 && approach > 0.0) bounce = distance / approach;
     } else {
       continue;
     }
+    // How far the point's own chord over the predicted step travels towards its contact plane.
+    const double approach = normalInSdf.dot(p0 - p1) / std::max(normalInSdf.norm(), 1e-12);
+    // A separated point whose chord does not reach its contact plane within the step is no contact: Bullet's
+    // solver would still act on it wherever its instantaneous velocity closes the gap d in dt (a "ghost" contact:
+    // the points ahead of a rolling sphere's contact approach the ground by rotation but never reach it, and
+    // pushing them brakes the roll and lifts the sphere). Points that do reach it (a falling body, a fast one
+    // before a thin wall) stay, so nothing tunnels; resting points stay through the predicted sinking g dt^2.
+    if (distance > 0.0 && !(approach >= distance)) continue;
+    // Bullet's solver aims a speculative point at the velocity restitution - d / dt: a bounce would lose d / dt.
+    // The writer adds d / (approach dt) to the restitution of such a point, so the rebound is e v.
+    if (c.state == SegmentState::Hit && distance > 0.0 && approach > 0.0) bounce = distance / approach;
     const double length = normalInSdf.norm();
     if (!(length > 1e-12) || !std::isfinite(distance) || !normalInSdf.allFinite()) continue;
     // Out of the field body, towards the shell point; Bullet's normal is on body 1, pointing to body 0.

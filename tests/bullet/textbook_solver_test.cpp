@@ -139,11 +139,7 @@ INSTANTIATE_TEST_SUITE_P(Sweep, SolverIncline,
                          ::testing::Values(InclineCase{0.3, -8}, InclineCase{0.3, -3}, InclineCase{0.3, 5},
                                            InclineCase{0.3, 15}, InclineCase{0.5, -8}, InclineCase{0.5, -3},
                                            InclineCase{0.5, 5}, InclineCase{0.5, 15}, InclineCase{0.8, -8},
-                                           InclineCase{0.8, -3}));
-// Open (issue 13): at mu = 0.8, 5 and 15 degrees above atan mu, the sampled default box does not slide in solver
-// mode (acceleration ~0; it slid within 5% with 8-corner shells). Listed here so that the gap is visible.
-INSTANTIATE_TEST_SUITE_P(DISABLED_SteepSweep, SolverIncline,
-                         ::testing::Values(InclineCase{0.8, 5}, InclineCase{0.8, 15}));
+                                           InclineCase{0.8, -3}, InclineCase{0.8, 5}, InclineCase{0.8, 15}));
 
 TEST(SolverTextbook, InclineShort) {
   BoxSpec box;
@@ -161,8 +157,9 @@ TEST(SolverTextbook, InclineShort) {
   EXPECT_NEAR(fitAcceleration(ts, xs) / (kG * (std::sin(t) - 0.5 * std::cos(t))), 1.0, 0.05);
 }
 
-// Left (measured 0.69 of 5/7 g sin theta): the speculative points ahead of the rolling contact are linearized along
-// the step's straight segment, and their rows resist the rotation. Disabled until fixed.
+// Open (issue 13; measured 0.63 of 5/7 g sin theta): up to about 1 m/s the sphere rolls at 5/7 g sin theta with
+// omega r = v, then it hops (its centre rises 1.7 mm, contacts drop to 0) and slips. Ghost speculative points ahead
+// of the contact are already dropped (solver_contacts.cpp); the hop's cause is not found yet. Disabled until fixed.
 TEST(SolverTextbook, DISABLED_SphereRollsAtFiveSevenths) {
   const double theta = 20.0;
   std::ostringstream body;
@@ -278,9 +275,9 @@ TEST(SolverTextbook, StackOfThreeStandsAndSleeps) {
   EXPECT_TRUE(r.allAsleep);
 }
 
-// Open (issue 13): with the default sampled box shells the 10-stack still drifts 5.7 cm between 1 s and 10 s
-// (2.2 cm with 8-corner shells). Disabled until fixed; the pyramid, which drifted 1.2 cm with 8-corner shells,
-// stands with the sampled ones.
+// Open (issue 13): with the default sampled box shells the 10-stack still drifts 8 mm between 1 s and 10 s
+// (2.2 cm with 8-corner shells, 5.7 cm with sampled shells before separated points that never reach their
+// contact plane were dropped). Disabled until fixed; the pyramid stands.
 TEST(SolverTextbook, DISABLED_StackOfTen) {
   expectStands(stand(column(10), 10.0), "10 boxes");
 }
@@ -298,8 +295,9 @@ TEST(SolverTextbook, PyramidOfFifteen) {
   expectStands(stand(boxes, 10.0), "pyramid");
 }
 
-// Open (issue 13): 10 kg on 0.1 kg drifts 14.5 cm between 1 s and 10 s with the default sampled box shells at
-// 1/240 s (Bullet's sequential impulses at a 100:1 mass ratio, 10 iterations). Disabled until fixed.
+// Open (issue 13): 10 kg on 0.1 kg drifts 2.5 cm between 1 s and 10 s and ends 1.08 cells deep with the default
+// sampled box shells at 1/240 s (Bullet's sequential impulses at a 100:1 mass ratio, 10 iterations). Disabled
+// until fixed.
 TEST(SolverTextbook, DISABLED_HeavyOnLight) {
   std::vector<BoxSpec> boxes = column(2);
   boxes[0].mass = 0.1;
