@@ -40,8 +40,8 @@
 #include "cli/bench_registry.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
-#include "sdfccd/thread_cpu_time.h"
 #include "sdfccd/output_file.h"
+#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {
 namespace {

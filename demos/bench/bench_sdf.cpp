@@ -14,8 +14,8 @@
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
-#include "sdfccd/parallel_for.h"
 #include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/parallel_for.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
 #define SDFCCD_ASSETS_DIR_CLI "assets"

@@ -39,9 +39,6 @@
 #include "sdfccd/output_file.h"
 #include "sdfccd/shell/point_shell.h"
 #include "sdfccd/shell/point_tree.h"
-#include "sdfccd/mesh/procedural_meshes.h"
-#include "sdfccd/ccd/rigid_ccd.h"
-#include "sdfccd/mesh/sdf_builder.h"
 #include "sdfccd/thread_cpu_time.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
@@ -195,11 +192,11 @@ Row measureQuery(const std::string& query, const Model& m, const PointTree& tree
     }
     row.contactSeconds += threadCpuSeconds() - t;
     // earliest-one: each holds one witness, possibly different points tied at the same fraction.
-    const bool agree = earliest ? (treeResult.firstFraction == linear.firstFraction &&
-                                   cut.firstFraction == linear.firstFraction &&
-                                   treeResult.contacts.empty() == linear.contacts.empty())
-                                : (treeResult.contacts.size() == linear.contacts.size() &&
-                                   treeResult.firstFraction == linear.firstFraction);
+    const bool agree =
+        earliest ? (treeResult.firstFraction == linear.firstFraction && cut.firstFraction == linear.firstFraction &&
+                    treeResult.contacts.empty() == linear.contacts.empty())
+                 : (treeResult.contacts.size() == linear.contacts.size() &&
+                    treeResult.firstFraction == linear.firstFraction);
     if (!agree) {
       if (cullLipschitz > 0.0) {  // a chosen bound may be too small: count what it misses
         ++wrongConfigs;
@@ -223,11 +220,13 @@ Row measureQuery(const std::string& query, const Model& m, const PointTree& tree
       "  %s, %s: configurations with contact: linear %.3f s, tree %.3f s; without: linear %.3f s, tree %.3f s "
       "(%.1f tree queries each)\n",
       m.name.c_str(), query.c_str(), linearHitSeconds, treeHitSeconds, row.linear - linearHitSeconds,
-      row.tree - treeHitSeconds, hitConfigs < configs ? static_cast<double>(missQueries) / (configs - hitConfigs) : 0.0);
+      row.tree - treeHitSeconds,
+      hitConfigs < configs ? static_cast<double>(missQueries) / (configs - hitConfigs) : 0.0);
   if (cullLipschitz > 0.0) {
-    std::printf("  %s, %s: node test with gradient bound %.2f: %d of %d configurations got answers different "
-                "from the linear query's\n",
-                m.name.c_str(), query.c_str(), cullLipschitz, wrongConfigs, configs);
+    std::printf(
+        "  %s, %s: node test with gradient bound %.2f: %d of %d configurations got answers different "
+        "from the linear query's\n",
+        m.name.c_str(), query.c_str(), cullLipschitz, wrongConfigs, configs);
   }
   std::fflush(stdout);
   return row;

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/math_types.h"
 #include "sdfccd/field/sdf_grid.h"
+#include "sdfccd/math_types.h"
 
 namespace sdfccd::cli {
 

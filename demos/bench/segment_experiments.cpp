@@ -10,9 +10,9 @@
 #include <string>
 
 #include "sdfccd/error.h"
-#include "sdfccd/parallel_for.h"
-#include "sdfccd/mesh/sdf_builder.h"
 #include "sdfccd/field/sdf_file.h"
+#include "sdfccd/mesh/sdf_builder.h"
+#include "sdfccd/parallel_for.h"
 #include "sdfccd/thread_cpu_time.h"
 #if __has_include("sdfccd/io/mesh_loader.h")
 #include "sdfccd/io/mesh_loader.h"

@@ -16,9 +16,9 @@
 #include <memory>
 #include <vector>
 
+#include "sdfccd/ccd/segment_ccd.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/field/sdf_grid.h"
-#include "sdfccd/ccd/segment_ccd.h"
 
 namespace sdfccd::cli {
 

@@ -25,9 +25,9 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
-#include "sdfccd/output_file.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {

@@ -138,7 +138,8 @@ ReportSection runStability(const ReportContext& ctx) {
   std::string md = "## Stability: largest stable timestep and stiffness (paper Fig. 10)\n\n";
   md +=
       fmt("%zu bunnies (777 points, 128-cell fields, every pair checked twice) dropped on the ground "
-          "(`assets/scenes/drop-bunnies.json` without friction, the paper's shell-normal force direction), symplectic Euler in Bullet, %.1f s simulated per "
+          "(`assets/scenes/drop-bunnies.json` without friction, the paper's shell-normal force direction), symplectic "
+          "Euler in Bullet, %.1f s simulated per "
           "trial, no time-of-impact clamping (only the penalty models differ), penalty impulses applied in the same "
           "step. **Definition:** %s. A search walks increasing values and stops at the first unstable one.\n\n",
           scene.bodies.size(), base.duration, kStabilityCriterion);

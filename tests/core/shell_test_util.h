@@ -14,8 +14,8 @@
 #include <utility>
 
 #include "../../demos/bench/random_pose.h"
-#include "sdfccd/shell/point_shell.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd::test {
 

@@ -11,10 +11,10 @@
 #include <fstream>
 #include <string>
 
-#include "sdfccd/model/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
 #include "sdfccd/mesh/mass_properties.h"
+#include "sdfccd/model/alpha_puzzle_piece.h"
 
 namespace sdfccd::haptics {
 namespace {

@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "sdfccd/field/analytic_fields.h"
-#include "sdfccd/shell/point_shell.h"
 #include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd::haptics {
 namespace {

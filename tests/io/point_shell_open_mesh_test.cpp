@@ -7,11 +7,11 @@
 #include <cmath>
 #include <limits>
 
+#include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/io/mesh_loader.h"
 #include "sdfccd/shell/point_shell.h"
 #include "sdfccd/shell/point_tree.h"
-#include "sdfccd/ccd/rigid_ccd.h"
 
 namespace sdfccd {
 namespace {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "core/shell_test_util.h"
-#include "sdfccd/model/alpha_puzzle_piece.h"
 #include "sdfccd/error.h"
+#include "sdfccd/model/alpha_puzzle_piece.h"
 
 namespace sdfccd {
 namespace {

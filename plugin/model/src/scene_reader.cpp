@@ -36,8 +36,7 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   r.checkObject(j, where);
   r.checkKeys(j,
               {"name", "mesh", "primitive", "sdf", "shell", "scale", "mass", "position", "orientation", "velocity",
-               "angular_velocity", "static", "kinematic", "points", "resolution", "padding", "friction",
-               "restitution"},
+               "angular_velocity", "static", "kinematic", "points", "resolution", "padding", "friction", "restitution"},
               where);
   SceneBody b;
   b.name = r.string(j, "name", where);

@@ -179,8 +179,7 @@ TEST(FrictionAnchorBlock, HeldBelowAtanMuWithoutCreepOver10000Steps) {
       EXPECT_LT(anchors[i].anchorInField.norm(), block.mass * kGravity / block.totalK);
     }
     EXPECT_NEAR(block.x, settled, 1e-15) << mu;
-    EXPECT_NEAR(block.x - anchors[0].anchorInField.x(), block.mass * kGravity * std::sin(theta) / block.totalK,
-                1e-12)
+    EXPECT_NEAR(block.x - anchors[0].anchorInField.x(), block.mass * kGravity * std::sin(theta) / block.totalK, 1e-12)
         << mu;
     EXPECT_NEAR(block.v, 0.0, 1e-12);
   }

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/error.h"
+#include "sdfccd/field/analytic_fields.h"
 
 namespace sdfccd {
 namespace {

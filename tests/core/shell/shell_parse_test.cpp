@@ -8,8 +8,8 @@
 #include <string>
 
 #include "sdfccd/error.h"
-#include "sdfccd/shell/point_shell.h"
 #include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd {
 namespace {

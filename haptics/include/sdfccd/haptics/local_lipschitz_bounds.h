@@ -15,8 +15,8 @@
 
 #include <vector>
 
-#include "sdfccd/math_types.h"
 #include "sdfccd/field/sdf_grid.h"
+#include "sdfccd/math_types.h"
 
 namespace sdfccd::haptics {
 

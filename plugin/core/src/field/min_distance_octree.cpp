@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
-#include "sdfccd/parallel_for.h"
 #include "sdfccd/field/sdf_grid.h"
+#include "sdfccd/parallel_for.h"
 
 namespace sdfccd {
 

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/output_file.h"
 #include "sdfccd/error.h"
-#include "sdfccd/tolerances.h"
+#include "sdfccd/output_file.h"
 #include "sdfccd/shell/point_shell.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 namespace {

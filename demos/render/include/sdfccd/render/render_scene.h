@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "sdfccd/math_types.h"
-#include "sdfccd/render/render_camera.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/render/render_camera.h"
 
 namespace sdfccd::render {
 

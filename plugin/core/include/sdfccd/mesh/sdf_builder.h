@@ -27,10 +27,10 @@
 #include <memory>
 #include <string>
 
-#include "sdfccd/math_types.h"
-#include "sdfccd/progress.h"
 #include "sdfccd/field/sdf_grid.h"
+#include "sdfccd/math_types.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/progress.h"
 
 namespace sdfccd {
 
