@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "bullet_conversions.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
 #include "sdfccd/fnv1a.h"
@@ -38,14 +39,10 @@ struct SceneWorld::Plate {
   std::vector<int> startSide;  // per body: sign of normal . (com - center)
 };
 
-namespace {
+using detail::toBt;
+using detail::toVec3;
 
-Vec3 toVec3(const btVector3& v) {
-  return Vec3(v.x(), v.y(), v.z());
-}
-btVector3 toBt(const Vec3& v) {
-  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
-}
+namespace {
 
 std::string vectorText(const Vec3& v) {
   std::ostringstream text;
