@@ -17,6 +17,7 @@
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/thread_cpu_time.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 
@@ -76,8 +77,10 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
     } else {
       continue;
     }
+    const double length = normalInSdf.norm();
+    if (!(length > tolerance::kMinDirectionLength) || !std::isfinite(distance) || !normalInSdf.allFinite()) continue;
     // How far the point's own chord over the predicted step travels towards its contact plane.
-    const double approach = normalInSdf.dot(p0 - p1) / std::max(normalInSdf.norm(), 1e-12);
+    const double approach = normalInSdf.dot(p0 - p1) / length;
     // A separated point whose chord does not reach its contact plane within the step is no contact: Bullet's
     // solver would still act on it wherever its instantaneous velocity closes the gap d in dt (a "ghost" contact:
     // the points ahead of a rolling sphere's contact approach the ground by rotation but never reach it, and
@@ -87,8 +90,6 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
     // Bullet's solver aims a speculative point at the velocity restitution - d / dt: a bounce would lose d / dt.
     // The writer adds d / (approach dt) to the restitution of such a point, so the rebound is e v.
     if (c.state == SegmentState::Hit && distance > 0.0 && approach > 0.0) bounce = distance / approach;
-    const double length = normalInSdf.norm();
-    if (!(length > 1e-12) || !std::isfinite(distance) || !normalInSdf.allFinite()) continue;
     // Out of the field body, towards the shell point; Bullet's normal is on body 1, pointing to body 0.
     const Vec3 normalInWorld = worldFromSdfStart.linear() * (normalInSdf / length);
     ContactCandidate candidate;

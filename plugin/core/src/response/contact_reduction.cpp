@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sdfccd/error.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd {
 namespace {
@@ -147,7 +148,8 @@ Vec3 meanNormal(const std::vector<ContactCandidate>& candidates, const std::vect
   Vec3 sum = Vec3::Zero();
   for (int m : members) sum += candidates[m].normal;
   const double length = sum.norm();
-  return length > 1e-12 ? Vec3(sum / length) : fallback;  // opposed normals cancel: keep the seed's
+  return length > tolerance::kMinDirectionLength ? Vec3(sum / length)
+                                                 : fallback;  // opposed normals cancel: keep the seed's
 }
 
 }  // namespace
