@@ -103,6 +103,7 @@ Contender peerContender(const BenchScene& b, const std::string& name, PeerShape 
   auto peer = std::make_shared<GImpactPeer>(b.scene, b.models, shape, dt);
   Contender c;
   c.name = name;
+  if (peer->hullVertices() > 0) std::printf("  (the convex hull has %d vertices)\n", peer->hullVertices());
   c.timestep = dt;
   c.step = [peer]() { peer->step(); };
   c.poses = [peer]() {

@@ -139,6 +139,12 @@ double GImpactPeer::margin() const {
   return double(any.getMargin());
 }
 
+int GImpactPeer::hullVertices() const {
+  if (m_bullet->meshes.empty()) return 0;
+  const auto* hull = dynamic_cast<const btConvexHullShape*>(m_bullet->meshes.begin()->second->shape.get());
+  return hull ? hull->getNumPoints() : 0;
+}
+
 double GImpactPeer::kineticEnergy() const {
   double energy = 0.0;
   for (const auto& b : m_bullet->bodies) {

@@ -50,6 +50,8 @@ class GImpactPeer {
   Rigid worldFromBody(int i) const;
   double margin() const;  ///< GImpact's triangle margin, or the convex shapes' margin (m)
   double timestep() const { return m_timestep; }
+  /// Convex world: the vertices of the first body's hull (0 for a box or GImpact).
+  int hullVertices() const;
   /// Total kinetic energy of the dynamic bodies (J), as SceneWorld::kineticEnergy.
   double kineticEnergy() const;
   /// True if any body state is NaN or infinite.

@@ -202,7 +202,10 @@ ReportSection runProtocol(const ReportContext& ctx) {
         amp.str() + "\n";
   }
 
-  auto ratio = [](double a, double b) { return b > 0 ? fmt("%.2fx", a / b) : std::string("n/a"); };
+  auto ratio = [](double a, double b) {
+    if (!(b > 0)) return std::string("n/a (discrete never stable)");
+    return a > 0 ? fmt("%.2fx", a / b) : std::string("0 (continuous stable at no dt of the grid)");
+  };
   md += fmt(
       "**Ratio continuous / discrete of the largest stable timestep:** paper's timing %s, ours %s%s (paper: %.0fx). "
       "1-DOF: with the paper's timing the continuous model's force lags the motion by half a step and gains energy "
