@@ -8,11 +8,11 @@
 
 namespace sdfccd {
 
-/// New scenes get the issue-13 defaults (PenaltySettings::trustworthy()): stiffness per unit area, damping from
-/// the pair's restitution, the Blend direction and anchor friction with mu from the bodies. The paper's
-/// parameters stay available: "stiffness" (per point) replaces "stiffness_per_area", "damping" (per point)
-/// replaces the damping ratio, and the paper's scenes name them with "direction": "shell_normal" and
-/// "friction_model": "regularized".
+/// New scenes get solver mode and, in penalty mode, the issue-13 defaults (PenaltySettings::trustworthy()):
+/// stiffness per unit area, damping from the pair's restitution, the Blend direction and anchor friction with mu
+/// from the bodies. The paper's parameters stay available: "stiffness" (per point) replaces "stiffness_per_area",
+/// "damping" (per point) replaces the damping ratio, and the paper's scenes name them with "mode": "penalty",
+/// "direction": "shell_normal" and "friction_model": "regularized".
 struct SceneContact {
   PenaltyModel model = PenaltyModel::Continuous;  ///< "model": continuous (Section 4.1) or discrete
   double stiffness = 2000.0;                      ///< "stiffness": N/m per point (when stiffnessPerArea is 0)
