@@ -20,7 +20,11 @@ namespace {
 
 constexpr double kSolverStep = 1.0 / 240.0;  // s: Bullet's usual fixed step
 constexpr double kPenaltyStep = 0.001;       // s: the paper's step
-constexpr double kProbeEvery = 0.002;        // s of simulated time between penetration samples
+// s of simulated time between penetration samples: each sample looks up every mesh vertex (20 x 37,000 for the
+// bunnies) in the neighbours' fields, which costs more than a step, so --quick samples less often.
+double probeInterval(const ModeBenchOptions& o) {
+  return o.quick ? 0.005 : 0.002;
+}
 
 /// One world of the comparison, behind a common face.
 struct Contender {
@@ -127,14 +131,15 @@ double totalEnergy(const BenchScene& b, Contender& c) {
   return e;
 }
 
-/// Steps `c` for `seconds` of simulated time, timing the steps and probing penetration every kProbeEvery; with
+/// Steps `c` for `seconds` of simulated time, timing the steps and probing penetration every probeEverySeconds; with
 /// `maxCells` > 0 stops at the first breach of kModeStabilityCriterion.
-ContenderRun runContender(const BenchScene& b, Contender& c, double seconds, double maxCells) {
+ContenderRun runContender(const BenchScene& b, Contender& c, double seconds, double maxCells,
+                          double probeEverySeconds) {
   ContenderRun run;
   const double start = totalEnergy(b, c);
   const double cell = b.probe->cellSize();
   const int frames = std::max(1, int(std::lround(seconds / c.timestep)));
-  const int probeEvery = std::max(1, int(std::lround(kProbeEvery / c.timestep)));
+  const int probeEvery = std::max(1, int(std::lround(probeEverySeconds / c.timestep)));
   for (int f = 0; f < frames && run.why.empty(); ++f) {
     const double cpuStart = threadCpuSeconds();
     c.step();
@@ -204,7 +209,7 @@ void timeScene(const ModeBenchOptions& o, const BenchScene& b, bool withShipped,
                           seconds);
   for (auto& [c, s] : contenders) {
     std::fprintf(stderr, "  modes: %s, %s ...\n", b.label.c_str(), c.name.c_str());
-    const ContenderRun r = runContender(b, c, s, 0.0);
+    const ContenderRun r = runContender(b, c, s, 0.0, probeInterval(o));
     printTimingRow(b, c, r, csv);
     std::fflush(stdout);
   }
@@ -218,7 +223,7 @@ void searchMode(const ModeBenchOptions& o, const BenchScene& b, const char* mode
     Contender c = oursContender(
         o, b, mode, std::string(mode) == "penalty" ? SdfccdContactMode::Penalty : SdfccdContactMode::Solver, dt, false);
     std::fprintf(stderr, "  stable: %s, %s at %.3f ms ...\n", b.label.c_str(), mode, 1e3 * dt);
-    const ContenderRun r = runContender(b, c, seconds, o.maxPenetrationCells);
+    const ContenderRun r = runContender(b, c, seconds, o.maxPenetrationCells, probeInterval(o));
     const double cell = b.probe->cellSize();
     std::printf(
         "  %-8s dt %7.3f ms (1/%-4.0f s): %-8s ground %5.2f, body %5.2f cells, dE max %+9.2f J, %4.1f ms CPU/step %s\n",
@@ -256,7 +261,7 @@ void runModeStability(const ModeBenchOptions& o, const CsvSink& csv) {
   const std::vector<double> solverSteps = {1.0 / 960, 1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60};
   const double seconds = o.quick ? 0.3 : 1.0;
   std::printf("\nLargest stable step of each contact mode (project defaults, %.1f s simulated per trial). ", seconds);
-  std::printf(kModeStabilityCriterion, o.maxPenetrationCells);
+  std::printf(kModeStabilityCriterion, o.maxPenetrationCells, 1e3 * probeInterval(o));
   std::printf(".\n");
   for (const auto& [label, file] :
        {std::pair<const char*, const char*>{"20 bunnies", "drop-bunnies.json"}, {"10-box stack", "stack-boxes.json"}}) {

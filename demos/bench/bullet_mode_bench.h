@@ -22,12 +22,13 @@
 
 namespace sdfccd::cli {
 
-/// What "stable" means for a contact mode, in one sentence (%g: the penetration bound in cells).
+/// What "stable" means for a contact mode, in one sentence (%g: the penetration bound in cells, then the
+/// probe's interval in ms).
 inline constexpr const char* kModeStabilityCriterion =
     "stable = over the whole run no body state becomes NaN or infinite, the total energy (kinetic + "
     "gravitational potential of the dynamic bodies) never rises more than 5%% + 0.5 J above its start, no body "
     "tunnels (centre of mass below the ground or inside another body), and no mesh vertex is ever deeper than "
-    "%g field cells in the ground or in another body (sampled every 2 ms of simulated time)";
+    "%g field cells in the ground or in another body (sampled every %g ms of simulated time)";
 
 struct ModeBenchOptions {
   bool quick = false;
