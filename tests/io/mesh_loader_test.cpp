@@ -150,7 +150,8 @@ TEST(MeshLoader, BadFilesGiveOneLineErrorsNamingTheFile) {
 // Assimp's OFF reader clamps an index past the vertex count to the last vertex; the loader refuses the file,
 // naming the file, line and face.
 TEST(MeshLoader, OffFaceIndexPastVertexCountIsRefused) {
-  const std::string past = tempFile("past.off", "OFF\n# a comment\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
+  const std::string past =
+      tempFile("past.off", "OFF\n# a comment\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
   const std::string negative = tempFile("negative.off", "OFF 4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 -1 2\n");
   for (const std::string& path : {past, negative}) {
     SCOPED_TRACE(path);

@@ -29,8 +29,8 @@ void checkBoxIsUsable(const Vec3i& nodeCounts, const Vec3& origin, double spacin
   if (!farCorner.allFinite() || farCorner.cwiseAbs().maxCoeff() > kMaxBoxCoordinate ||
       origin.cwiseAbs().maxCoeff() > kMaxBoxCoordinate) {
     std::ostringstream s;
-    s << "grid box (origin " << origin.x() << " " << origin.y() << " " << origin.z() << ", spacing " << spacing
-      << ", " << nodeCounts.x() << " x " << nodeCounts.y() << " x " << nodeCounts.z()
+    s << "grid box (origin " << origin.x() << " " << origin.y() << " " << origin.z() << ", spacing " << spacing << ", "
+      << nodeCounts.x() << " x " << nodeCounts.y() << " x " << nodeCounts.z()
       << " nodes) is not finite or reaches past +-" << kMaxBoxCoordinate;
     throw Error(s.str());
   }
