@@ -140,7 +140,9 @@ struct Context {
 // Eight floats processed together: GCC/Clang vector extensions (lowered to AVX where the function is
 // compiled for it, to SSE pairs otherwise). Written by hand because GCC 12 at -O2 does not vectorize these
 // loops on its own.
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpsabi"  // Vec8f never crosses a call: every helper is always inlined
+#elif defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"  // Vec8f never crosses a call: every helper is always inlined
 #endif
 typedef float Vec8f __attribute__((vector_size(32)));
@@ -170,9 +172,6 @@ SDFCCD_INLINE Vec8f min8(Vec8f a, Vec8f b) {
 }
 SDFCCD_INLINE Vec8f splat8(float x) {
   return Vec8f{x, x, x, x, x, x, x, x};
-}
-SDFCCD_INLINE float maxf(float a, float b) {
-  return a > b ? a : b;
 }
 typedef int Vec8i __attribute__((vector_size(32)));
 // True when any of the 2 x 8 squared bounds is <= limit: lets chunk loops skip their scalar compaction.
