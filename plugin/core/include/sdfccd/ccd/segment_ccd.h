@@ -51,7 +51,7 @@ enum class SegmentState : std::uint8_t {
   Hit,           ///< enters the contact set at `fraction` > 0
   StartsInside,  ///< phi(p0) <= sigma: fraction 0
   OutsideField,  ///< the whole segment lies outside the field's box (grid fields only): no contact
-  Failed,        ///< non-finite input: no answer
+  Failed,        ///< non-finite input, or (grid fields) p1 - p0 overflows: no answer
 };
 
 /// Settings of one query.

@@ -82,8 +82,8 @@ SdfGridLayout computeSdfGridLayout(const Box3& meshBounds, const SdfBuildSetting
 /// Figures of one build.
 struct SdfBuildStats {
   double seconds = 0.0;            ///< wall-clock time of the whole build (s)
-  double distanceSeconds = 0.0;    ///< time of the distance pass (s)
-  double signSeconds = 0.0;        ///< time of the sign pass and the automatic checks (s)
+  double distanceSeconds = 0.0;    ///< time of the distance pass and the automatic crossing check (s)
+  double signSeconds = 0.0;        ///< time of the sign pass and the automatic winding-number check (s)
   std::size_t gridBytes = 0;       ///< bytes of the grid values
   std::size_t peakExtraBytes = 0;  ///< bytes of the temporary structures (BVH, candidates, ...), estimated
   SdfSignMethod signMethod = SdfSignMethod::Automatic;  ///< the method actually used
