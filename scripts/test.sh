@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test command (README, .ci/run): installs dependencies, builds, runs every test suite, then rebuilds
 # the core and its tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them again, runs the haptics
-# suite under ThreadSanitizer, and fuzzes the field, shell and scene loaders briefly (libFuzzer, clang).
+# suite under ThreadSanitizer, and fuzzes the field, shell, scene, segment-file and haptic-scene readers briefly
+# (libFuzzer, clang).
 # Usage (as root, from the repository root): bash scripts/test.sh [fuzz]   (fuzz: the libFuzzer stage alone)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -9,17 +10,19 @@ bash scripts/install-deps.sh
 jobs=$(nproc)
 
 # The loaders under libFuzzer (tests/fuzz): arbitrary bytes must give a valid object or an sdfccd::Error; a
-# crash, another exception, a leak or UB fails the command. The three fuzzers run at once for 30 s each on a copy
-# of their corpus: on the 2-core CI machine that is the CPU of 20 s each in turn, in half the wall time.
+# crash, another exception, a leak or UB fails the command. The five fuzzers (field, shell, scene, segment file,
+# haptic scene) run at once for 30 s each on a copy of their corpus: the stage's wall time stays 30 s, and on the
+# 2-core CI machine each gets the CPU of 12 s.
 fuzz_stage() {
   echo "== build (libFuzzer targets: clang, address,undefined sanitizers)" >&2
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug \
     -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DSDFCCD_BUILD_FUZZERS=ON -DSDFCCD_BUILD_TESTS=OFF \
-    -DSDFCCD_BUILD_TOOLS=OFF -DSDFCCD_BUILD_BULLET=OFF -DSDFCCD_BUILD_HAPTICS=OFF -DSDFCCD_BUILD_RENDER=OFF >/dev/null
-  cmake --build build-fuzz -j"$jobs" --target fuzz_field_loader fuzz_shell_loader fuzz_scene_loader
-  echo "== fuzz (field, shell and scene loaders, 30 s at once)" >&2
+    -DSDFCCD_BUILD_TOOLS=OFF -DSDFCCD_BUILD_BULLET=OFF -DSDFCCD_BUILD_HAPTICS=ON -DSDFCCD_BUILD_RENDER=OFF >/dev/null
+  local targets=(fuzz_field_loader fuzz_shell_loader fuzz_scene_loader fuzz_segment_file fuzz_haptic_scene)
+  cmake --build build-fuzz -j"$jobs" --target "${targets[@]}"
+  echo "== fuzz (field, shell, scene, segment file and haptic scene readers, 30 s at once)" >&2
   mkdir -p build-fuzz/artifacts
-  local targets=(fuzz_field_loader fuzz_shell_loader fuzz_scene_loader) pids=() corpora=() target corpus i failed=0
+  local pids=() corpora=() target corpus i failed=0
   for target in "${targets[@]}"; do
     corpus=$(mktemp -d)
     corpora+=("$corpus")

@@ -17,6 +17,7 @@
 #include "cli/command_registry.h"
 #include "cli/csv_numbers.h"
 #include "cli/query_options.h"
+#include "sdfccd/ccd/segment_file.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/field/sdf_file.h"
@@ -32,32 +33,13 @@ struct QueryOptions {
   std::string octree = "full";
 };
 
-struct SegmentLine {
-  Vec3 p0, p1;
-  double sigma;
-};
-
-std::vector<SegmentLine> readSegments(const std::string& path, double defaultSigma) {
-  std::vector<SegmentLine> segments;
-  for (const CsvNumberLine& line : readCsvNumberLines(path, "segments")) {
-    const std::vector<double>& values = line.values;
-    if (values.size() != 6 && values.size() != 7) {
-      throw Error(line.where + "expected 6 or 7 comma-separated numbers (x0,y0,z0,x1,y1,z1[,sigma]), got " +
-                  std::to_string(values.size()));
-    }
-    segments.push_back({Vec3(values[0], values[1], values[2]), Vec3(values[3], values[4], values[5]),
-                        values.size() == 7 ? values[6] : defaultSigma});
-  }
-  return segments;
-}
-
 int runQuery(const QueryOptions& o) {
   if (!std::isfinite(o.sigma)) throw Error("--sigma must be finite");
   SegmentCcdSettings settings;
   settings.method = parseCcdMethod(o.method);
   settings.octree = parseOctreeMode(o.octree);
   settings.mode = CcdMode::AllIntervals;
-  const std::vector<SegmentLine> segments = readSegments(o.segments, o.sigma);
+  const std::vector<SegmentRecord> segments = readSegmentFile(o.segments, o.sigma);
   const GridField field(std::make_shared<const SdfGrid>(loadSdf(o.field)));
 
   std::string out = "segment,first_hit,intervals\n";

@@ -147,6 +147,32 @@ TEST(MeshLoader, BadFilesGiveOneLineErrorsNamingTheFile) {
   for (const auto& p : {empty, garbage, points, nan, truncated}) std::remove(p.c_str());
 }
 
+// Assimp's OFF reader clamps an index past the vertex count to the last vertex; the loader refuses the file,
+// naming the file, line and face.
+TEST(MeshLoader, OffFaceIndexPastVertexCountIsRefused) {
+  const std::string past =
+      tempFile("past.off", "OFF\n# a comment\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
+  const std::string negative = tempFile("negative.off", "OFF 4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 -1 2\n");
+  for (const std::string& path : {past, negative}) {
+    SCOPED_TRACE(path);
+    try {
+      loadMesh(path);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      EXPECT_NE(message.find("not in 0..3"), std::string::npos) << message;
+    }
+  }
+  try {
+    loadMesh(past);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("line 9, face 1"), std::string::npos) << e.what();
+  }
+  for (const auto& p : {past, negative}) std::remove(p.c_str());
+}
+
 TEST(MeshLoader, SavedOffReadsBack) {
   MeshRepairReport report;
   const std::string in = tempFile("in.off", cubeOff());

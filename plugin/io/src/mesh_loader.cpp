@@ -7,10 +7,14 @@
 #include <sys/stat.h>
 
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "sdfccd/error.h"
 #include "sdfccd/output_file.h"
@@ -48,6 +52,80 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
   for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], transform, out);
 }
 
+// The non-empty lines of an OFF file with comments ('#' to the end of the line) removed, as (line number,
+// tokens).
+class OffLines {
+ public:
+  explicit OffLines(std::istream& in) : m_in(in) {}
+  // The next non-empty line's tokens; false at the end of the file.
+  bool next(std::vector<std::string>& tokens) {
+    std::string line;
+    while (std::getline(m_in, line)) {
+      ++m_number;
+      const std::size_t hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      std::istringstream s(line);
+      tokens.clear();
+      for (std::string t; s >> t;) tokens.push_back(t);
+      if (!tokens.empty()) return true;
+    }
+    return false;
+  }
+  long long lineNumber() const { return m_number; }
+
+ private:
+  std::istream& m_in;
+  long long m_number = 0;
+};
+
+bool parseCount(const std::string& token, long long& out) {
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtoll(token.c_str(), &end, 10);
+  return errno == 0 && end != token.c_str() && *end == '\0' && out >= 0;
+}
+
+// Assimp's OFF reader replaces a face index past the vertex count by the last vertex (with only a log line),
+// so a corrupt face would load as a different mesh. This pass refuses it, naming the file, line and face.
+// Anything it does not understand (binary OFF, a malformed header) is left to assimp's own checks.
+void checkOffFaceIndices(const std::string& path) {
+  std::ifstream in(path);
+  OffLines lines(in);
+  std::vector<std::string> tokens;
+  if (!lines.next(tokens)) return;
+  const std::string& keyword = tokens[0];
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0) return;
+  if (keyword.find_first_of("n4") != std::string::npos) return;  // other dimensions: left to assimp
+  std::vector<std::string> header(tokens.begin() + 1, tokens.end());
+  if (!header.empty() && header[0] == "BINARY") return;
+  while (header.size() < 3 && lines.next(tokens)) header.insert(header.end(), tokens.begin(), tokens.end());
+  long long vertexCount = 0, faceCount = 0;
+  if (header.size() < 2 || !parseCount(header[0], vertexCount) || !parseCount(header[1], faceCount)) return;
+  for (long long v = 0; v < vertexCount; ++v) {
+    if (!lines.next(tokens)) return;
+  }
+  for (long long f = 0; f < faceCount && lines.next(tokens); ++f) {
+    long long corners = 0;
+    if (!parseCount(tokens[0], corners)) return;
+    for (long long c = 1; c <= corners && c < static_cast<long long>(tokens.size()); ++c) {
+      long long index = 0;
+      if (!parseCount(tokens[static_cast<std::size_t>(c)], index) || index >= vertexCount) {
+        throw Error("mesh '" + path + "': line " + std::to_string(lines.lineNumber()) + ", face " + std::to_string(f) +
+                    ": vertex index '" + tokens[static_cast<std::size_t>(c)] + "' is not in 0.." +
+                    std::to_string(vertexCount - 1));
+      }
+    }
+  }
+}
+
+bool hasOffExtension(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return false;
+  std::string ext = path.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == "off";
+}
+
 }  // namespace
 
 TriangleMesh loadMesh(const std::string& path, MeshRepairReport* outReport, const MeshRepairSettings& repairSettings) {
@@ -59,6 +137,7 @@ TriangleMesh loadMesh(const std::string& path, MeshRepairReport* outReport, cons
     if (!probe) throw Error("cannot open mesh '" + path + "': " + std::strerror(errno));
   }
   if (info.st_size == 0) throw Error("mesh file '" + path + "' is empty");
+  if (hasOffExtension(path)) checkOffFaceIndices(path);
 
   Assimp::Importer importer;
   // Keep only positions: normals, UVs, colours and so on are irrelevant to distances.

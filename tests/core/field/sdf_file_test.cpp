@@ -189,6 +189,10 @@ TEST(SdfFile, RejectsCorruptNativeFiles) {
   expectRejected(forged([](std::string& s) { putDouble(s, 56, -0.1); }), "negative spacing");
   expectRejected(forged([](std::string& s) { putDouble(s, 56, std::numeric_limits<double>::infinity()); }), "inf");
   expectRejected(forged([](std::string& s) { putDouble(s, 40, std::nan("")); }), "NaN origin");
+  // A finite spacing whose box is not: 1e308 * (nodes - 1) overflows; 1e-300 has no finite inverse.
+  expectRejected(forged([](std::string& s) { putDouble(s, 56, 1e308); }), "spacing 1e308");
+  expectRejected(forged([](std::string& s) { putDouble(s, 56, 1e-300); }), "spacing 1e-300");
+  expectRejected(forged([](std::string& s) { putDouble(s, 32, 1e200); }), "origin 1e200");
   expectRejected(forged([](std::string& s) { putLe(s, 64 + 4 * 5, 0x7fc00000u, 4); }), "NaN value");
   expectRejected(forged([](std::string& s) { putLe(s, 64, 0x7f800000u, 4); }), "inf value");
 }
@@ -206,6 +210,7 @@ TEST(SdfFile, RejectsCorruptSdfGenFiles) {
   expectRejected("2 2 2\n0 0 0\n0\n0 0 0 0 0 0 0 0\n", "zero spacing");
   expectRejected("2 2 2\n0 0 0\n-1\n0 0 0 0 0 0 0 0\n", "negative spacing");
   expectRejected("2 2 2\n0 nan 0\n1\n0 0 0 0 0 0 0 0\n", "NaN origin");
+  expectRejected("2 2 2\n0 0 0\n1e308\n0 0 0 0 0 0 0 0\n", "spacing 1e308 (a box past the double range)");
   expectRejected("2 2 2\n0 0 0\n1\n0 0 0 nan 0 0 0 0\n", "NaN value");
   expectRejected("2 2 2\n0 0 0\n1\n0 0 0 1e39 0 0 0 0\n", "value beyond float");
   expectRejected("2 2 2\n0 0 0\n1\n0 0 0 0x1 0 0 0 0\n", "hex value");

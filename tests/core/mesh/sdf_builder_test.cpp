@@ -261,5 +261,94 @@ TEST(SdfBuilder, ReportsProgressUpToOne) {
   EXPECT_TRUE(monotone);
 }
 
+// Two closed boxes in one mesh: box (centre, half sizes) as 12 outward triangles, vertices offset by `base`.
+void appendBox(TriangleMesh& mesh, const Vec3& centre, const Vec3& half) {
+  const TriangleMesh box = test::boxMesh(half);
+  const int base = static_cast<int>(mesh.vertices.size());
+  for (const Vec3& v : box.vertices) mesh.vertices.push_back(v + centre);
+  for (const auto& t : box.triangles) mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
+// Brute-force check of a field of a union of boxes: at every node, |value| is the distance to the triangle set
+// and the sign says whether the node is inside some box (nodes within 1e-9 of a box surface are skipped).
+void expectUnionOfBoxes(const TriangleMesh& mesh, const SdfGrid& g, const std::vector<std::pair<Vec3, Vec3>>& boxes,
+                        std::size_t& insideNodes) {
+  std::size_t wrongSign = 0;
+  insideNodes = 0;
+  forEachNode(g, [&](int, int, int, const Vec3& p, double value) {
+    double nearest = std::numeric_limits<double>::infinity();
+    bool inside = false;
+    for (const auto& [centre, half] : boxes) {
+      const double d = test::boxSignedDistance(p - centre, half);
+      nearest = std::min(nearest, std::fabs(d));
+      inside = inside || d < 0.0;
+    }
+    if (nearest < 1e-9) return;
+    const double distance = test::bruteForceDistance(mesh, p);
+    EXPECT_NEAR(std::fabs(value), distance, floatTolerance(distance));
+    insideNodes += inside ? 1 : 0;
+    if ((value < 0.0) != inside) ++wrongSign;
+  });
+  EXPECT_EQ(wrongSign, 0u) << "of " << insideNodes << " inside nodes";
+}
+
+// Issue 14, finding 7: a closed mesh that intersects itself (two overlapping cubes in one file). The faces of
+// each cube inside the other are buried; nodes closest to them got a positive pseudonormal sign. The automatic
+// sign detects the crossing triangles and uses the winding number: every node inside the union is negative.
+TEST(SdfBuilder, SelfIntersectingCubesAreSignedAsTheirUnion) {
+  const std::vector<std::pair<Vec3, Vec3>> boxes = {{Vec3(0.0, 0.0, 0.0), Vec3(0.5, 0.5, 0.5)},
+                                                    {Vec3(0.37, 0.21, 0.13), Vec3(0.45, 0.5, 0.4)}};
+  TriangleMesh mesh;
+  for (const auto& [centre, half] : boxes) appendBox(mesh, centre, half);
+  ASSERT_TRUE(isClosedAndOriented(mesh));
+  SdfBuildSettings settings;
+  settings.resolution = 20;
+  settings.padding = 2;
+  const SdfBuildResult automatic = buildSdf(mesh, settings);
+  EXPECT_EQ(automatic.stats.signMethod, SdfSignMethod::WindingNumber);
+  EXPECT_GT(automatic.stats.selfIntersections, 0u);
+  std::size_t insideNodes = 0;
+  expectUnionOfBoxes(mesh, *automatic.grid, boxes, insideNodes);
+  EXPECT_GT(insideNodes, 1000u);
+  // The pseudonormal, when asked for explicitly, still gives the buried faces' nodes the wrong sign: the case
+  // the automatic choice avoids.
+  settings.signMethod = SdfSignMethod::Pseudonormal;
+  const SdfBuildResult pseudonormal = buildSdf(mesh, settings);
+  std::size_t positiveInside = 0;
+  forEachNode(*pseudonormal.grid, [&](int, int, int, const Vec3& p, double value) {
+    bool deepInside = false;
+    for (const auto& [centre, half] : boxes)
+      deepInside = deepInside || test::boxSignedDistance(p - centre, half) < -1e-9;
+    if (deepInside && value > 0.0) ++positiveInside;
+  });
+  EXPECT_GT(positiveInside, 0u);
+}
+
+// Nested shells of one orientation do not cross, but the pseudonormal of the inner shell says "outside" in
+// the gap; the block check against the winding number catches it and the whole field is the solid outer box.
+TEST(SdfBuilder, NestedShellsOfOneOrientationAreSignedByTheWindingNumber) {
+  const std::vector<std::pair<Vec3, Vec3>> boxes = {{Vec3::Zero(), Vec3(2.0, 2.0, 2.0)},
+                                                    {Vec3(0.1, 0.0, -0.2), Vec3(0.5, 0.5, 0.5)}};
+  TriangleMesh mesh;
+  for (const auto& [centre, half] : boxes) appendBox(mesh, centre, half);
+  SdfBuildSettings settings;
+  settings.resolution = 40;
+  settings.padding = 2;
+  const SdfBuildResult result = buildSdf(mesh, settings);
+  EXPECT_EQ(result.stats.selfIntersections, 0u);
+  EXPECT_GT(result.stats.inconsistentSignNodes, 0u);
+  EXPECT_EQ(result.stats.signMethod, SdfSignMethod::WindingNumber);
+  std::size_t insideNodes = 0;
+  expectUnionOfBoxes(mesh, *result.grid, boxes, insideNodes);
+}
+
+// A closed mesh without crossings or nested shells keeps the exact, cheap pseudonormal sign.
+TEST(SdfBuilder, AutomaticSignKeepsThePseudonormalOnCleanClosedMeshes) {
+  const SdfBuildResult result = buildSdfAt(test::icosphereMesh(1.0, 2), 24, 2);
+  EXPECT_EQ(result.stats.signMethod, SdfSignMethod::Pseudonormal);
+  EXPECT_EQ(result.stats.selfIntersections, 0u);
+  EXPECT_EQ(result.stats.inconsistentSignNodes, 0u);
+}
+
 }  // namespace
 }  // namespace sdfccd

@@ -16,6 +16,7 @@ void reset(SegmentCcdResult& r) {
   r.fraction = 1.0;
   r.intervals.clear();
   r.normal = Vec3::Zero();
+  r.point = Vec3::Zero();
   r.depth = 0.0;
 }
 
@@ -85,6 +86,7 @@ void finishConvexQuery(const Field& field, const Vec3& p0, const Vec3& p1, doubl
     outResult.fraction = 0.0;
     outResult.depth = f0;
     outResult.normal = field.gradient(p0);
+    outResult.point = p0;
     if (all) outResult.intervals.append(0.0, f1 <= 0.0 ? 1.0 : (found ? clamp01(span.end) : 0.0));
     return;
   }
@@ -93,7 +95,8 @@ void finishConvexQuery(const Field& field, const Vec3& p0, const Vec3& p1, doubl
   const double leave = f1 <= 0.0 ? 1.0 : clamp01(std::max(span.end, enter));
   outResult.state = SegmentState::Hit;
   outResult.fraction = enter;
-  outResult.normal = field.gradient(p0 + enter * (p1 - p0));
+  outResult.point = p0 + enter * (p1 - p0);
+  outResult.normal = field.gradient(outResult.point);
   if (all) outResult.intervals.append(enter, leave);
 }
 
@@ -134,6 +137,7 @@ void PlaneField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
     outResult.fraction = 0.0;
     outResult.depth = f0;
     outResult.normal = m_normal;
+    outResult.point = p0InSdf;
     if (all) outResult.intervals.append(0.0, f1 <= 0.0 ? 1.0 : clamp01(f0 / (f0 - f1)));
     return;
   }
@@ -142,6 +146,7 @@ void PlaneField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf,
   outResult.state = SegmentState::Hit;
   outResult.fraction = t;
   outResult.normal = m_normal;
+  outResult.point = p0InSdf + t * (p1InSdf - p0InSdf);
   if (all) outResult.intervals.append(t, 1.0);
 }
 
@@ -199,6 +204,7 @@ void SphereField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf
     outResult.fraction = 0.0;
     outResult.depth = f0;
     outResult.normal = gradient(p0InSdf);
+    outResult.point = p0InSdf;
     if (all) outResult.intervals.append(0.0, f1 <= 0.0 ? 1.0 : (twoRoots ? clamp01(t2) : 0.0));
     return;
   }
@@ -208,7 +214,8 @@ void SphereField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf
   const double leave = f1 <= 0.0 ? 1.0 : clamp01(std::max(t2, enter));
   outResult.state = SegmentState::Hit;
   outResult.fraction = enter;
-  outResult.normal = gradient(p0InSdf + enter * d);
+  outResult.point = p0InSdf + enter * d;
+  outResult.normal = gradient(outResult.point);
   if (all) outResult.intervals.append(enter, leave);
 }
 

@@ -15,6 +15,8 @@
 /// - Parts of the segment outside a grid field's box are free of contact; a segment entirely outside is
 ///   OutsideField. Analytic fields are defined everywhere.
 /// - A zero-length segment is a point query at p0.
+/// - Grid fields clip the segment to the box in double-double before parametrising the walk, so a segment
+///   1e20 long through the field finds its contact; its fraction is then rounded to double (see `point`).
 #pragma once
 
 #include <cstdint>
@@ -49,7 +51,7 @@ enum class SegmentState : std::uint8_t {
   Hit,           ///< enters the contact set at `fraction` > 0
   StartsInside,  ///< phi(p0) <= sigma: fraction 0
   OutsideField,  ///< the whole segment lies outside the field's box (grid fields only): no contact
-  Failed,        ///< non-finite input: no answer
+  Failed,        ///< non-finite input, or (grid fields) p1 - p0 overflows: no answer
 };
 
 /// Settings of one query.
@@ -71,7 +73,11 @@ struct SegmentCcdResult {
   double fraction = 1.0;       ///< first t in [0,1] with phi <= sigma; 1 when there is none
   IntervalList intervals;      ///< AllIntervals mode: sorted, disjoint, merged [a, b] where phi <= sigma
   Vec3 normal = Vec3::Zero();  ///< at the first contact: normalized field gradient (zero if undefined)
-  double depth = 0.0;          ///< at the first contact: phi - sigma (0 at a crossing, < 0 when starting inside)
+  /// The first contact point in the field's frame (zero when there is none). For a grid field and a segment far
+  /// longer than the field (over 2^26 cells), `fraction` is rounded to double and p0 + fraction (p1 - p0) can
+  /// lie far from the contact; `point` is exact to the field's resolution.
+  Vec3 point = Vec3::Zero();
+  double depth = 0.0;  ///< at the first contact: phi - sigma (0 at a crossing, < 0 when starting inside)
 
   bool hit() const { return state == SegmentState::Hit || state == SegmentState::StartsInside; }
 };

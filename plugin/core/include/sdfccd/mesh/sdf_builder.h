@@ -21,6 +21,13 @@
 /// 2018 far-field dipole approximation on the BVH) decides: inside where w >= 0.5; a block whose bounding
 /// ball holds no surface and whose centre has w clearly 0 or 1 (|w - 1/2| > 1/4) gives that sign to all its
 /// nodes (w is continuous off the surface), every other node is evaluated on its own.
+///
+/// The automatic choice trusts the pseudonormal only on a closed mesh that passes two checks, since a closed
+/// mesh that intersects itself (two overlapping cubes in one file) or holds nested shells of one orientation
+/// has buried faces whose pseudonormals give inside nodes a positive sign: no pair of triangles may cross
+/// (BVH pairs, an edge strictly through another triangle), and in every block of nodes away from the surface
+/// the pseudonormal signs must agree with the winding number at the block's centre. Otherwise the winding
+/// number signs every node (SdfBuildStats::selfIntersections and inconsistentSignNodes say why).
 #pragma once
 
 #include <cstddef>
@@ -36,7 +43,7 @@ namespace sdfccd {
 
 /// How the inside/outside sign is decided.
 enum class SdfSignMethod {
-  Automatic,      ///< Pseudonormal on closed meshes, WindingNumber otherwise
+  Automatic,      ///< Pseudonormal on closed meshes that pass the checks below, WindingNumber otherwise
   Pseudonormal,   ///< angle-weighted pseudonormal of the closest feature (exact on closed, oriented meshes)
   WindingNumber,  ///< generalized winding number >= 0.5 (robust to holes and open boundaries)
 };
@@ -75,14 +82,21 @@ SdfGridLayout computeSdfGridLayout(const Box3& meshBounds, const SdfBuildSetting
 /// Figures of one build.
 struct SdfBuildStats {
   double seconds = 0.0;            ///< wall-clock time of the whole build (s)
-  double distanceSeconds = 0.0;    ///< time of the distance pass (s)
-  double signSeconds = 0.0;        ///< time of the sign pass (s), winding numbers only
+  double distanceSeconds = 0.0;    ///< time of the distance pass and the automatic crossing check (s)
+  double signSeconds = 0.0;        ///< time of the sign pass and the automatic winding-number check (s)
   std::size_t gridBytes = 0;       ///< bytes of the grid values
   std::size_t peakExtraBytes = 0;  ///< bytes of the temporary structures (BVH, candidates, ...), estimated
   SdfSignMethod signMethod = SdfSignMethod::Automatic;  ///< the method actually used
   int threads = 0;                                      ///< worker threads used
   std::size_t triangles = 0;                            ///< triangles of the mesh
   double meanCandidates = 0.0;                          ///< mean candidate triangles per block (diagnostic)
+  /// Automatic sign on a closed mesh: pairs of triangles that cross (an edge strictly through another's
+  /// interior; neighbours sharing a vertex are not tested). Any makes the build use the winding number.
+  std::size_t selfIntersections = 0;
+  /// Automatic sign on a closed mesh without crossings: nodes, in blocks away from the surface, whose
+  /// pseudonormal sign disagreed with the winding number (nested shells of one orientation). Any makes the
+  /// build re-sign every node by the winding number.
+  std::size_t inconsistentSignNodes = 0;
 };
 
 /// Result of buildSdf. Keep it (or a copy of `grid`) alive: `const SdfGrid& g = *buildSdf(m, s).grid;`
