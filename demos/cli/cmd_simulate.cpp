@@ -254,7 +254,8 @@ int runSimulate(const SimulateOptions& o) {
       "wall %.2f s (build %.2f s, steps %.2f s, CCD %.2f s); max penetration %.3f cells; %zu tunnelled; "
       "%s; final kinetic energy %.6g J\n",
       wallSeconds, buildSeconds, world->stepSeconds(), world->ccdSeconds(), world->maxPenetrationCells(),
-      tunneled.size(), nan ? "NaN DETECTED" : "no NaN", summary["final_kinetic_energy"].get<double>());
+      tunneled.size(), nan ? "NaN DETECTED" : (runaway ? "RUNAWAY (guard)" : "no NaN"),
+      summary["final_kinetic_energy"].get<double>());
   std::printf("wrote %s/frames.csv and %s/summary.json\n", shownName(outDir).c_str(), shownName(outDir).c_str());
   // A failed run says so on stderr (one line), besides the NaN/summary lines on stdout.
   if (nan) {
