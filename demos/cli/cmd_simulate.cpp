@@ -265,7 +265,7 @@ int runSimulate(const SimulateOptions& o) {
   }
   if (guardStopped) {
     std::fprintf(stderr, "sdfccd: error: simulate: scene '%s': runaway stopped at frame %d: %s\n",
-                 shownName(o.scene).c_str(), runawayFrame, runaway->c_str());
+                 shownName(o.scene).c_str(), runawayFrame, shownName(*runaway).c_str());
     return 3;
   }
   return 0;

@@ -42,4 +42,12 @@ run '"spaces and üñí"' 'spaces_and_______'
 run '""' 'scene'
 long="$(printf 'n%.0s' $(seq 1 200))"
 run "\"$long\"" "${long:0:64}"
+
+# Errors that quote a name from the file stay one line: control characters are shown as '?'.
+cat > "$work/dup.json" <<'JSON'
+{ "bodies": [ { "name": "a\nb\u001b[2J", "primitive": { "type": "box" }, "mass": 1.0 },
+              { "name": "a\nb\u001b[2J", "primitive": { "type": "box" }, "mass": 1.0 } ] }
+JSON
+expect_one_line_error simulate "$work/dup.json" --cache ""
+grep -qF "repeats 'a?b?[2J'" "$work/err.txt" || fail "duplicate name error: $(cat "$work/err.txt")"
 echo "ok"
