@@ -18,6 +18,7 @@
 #include "cli/command_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/model/model_cache_folder.h"
 #include "sdfccd/output_file.h"
 #include "sdfccd/output_folder.h"
 
@@ -32,20 +33,25 @@ struct HapticsOptions {
   bool virtualTime = false;
   int simCyclesPerTick = 1;
   int ccdThreads = 1;
-  std::string cache = "out/cache";
+  std::string cache;
+  const CLI::Option* cacheOption = nullptr;  // given: --cache wins, even "" (no cache)
 };
 
 int runHaptics(const HapticsOptions& o) {
   haptics::HapticSessionSettings settings;
   settings.method = haptics::parseHapticMethod(o.method);
-  if (o.seconds < 0.0 || o.seconds > 3600.0) throw Error("--seconds must be in (0, 3600]");
+  // Written so that NaN fails too (every comparison with NaN is false); 0 means the scene's length.
+  if (!(o.seconds >= 0.0 && o.seconds <= 3600.0)) throw Error("--seconds must be in (0, 3600]");
+  if (o.simCyclesPerTick < 1 || o.simCyclesPerTick > 1000) throw Error("--sim-cycles-per-tick must be in 1..1000");
+  if (o.ccdThreads < 1 || o.ccdThreads > 256) throw Error("--ccd-threads must be in 1..256");
   settings.seconds = o.seconds;
   settings.realTime = !o.virtualTime;
   settings.simCyclesPerTick = o.simCyclesPerTick;
   settings.ccdThreads = o.ccdThreads;
   settings.recordTicks = !o.out.empty();
   haptics::HapticSceneLoadSettings load;
-  load.cacheDir = o.cache;
+  load.cacheDir = modelCacheFolder(o.cacheOption->count() > 0 ? &o.cache : nullptr);
+  checkModelCacheWritable(load.cacheDir);  // before the build, not after it
   const haptics::HapticScene scene = haptics::loadHapticScene(o.scene, load);
   std::optional<OutputFolder> outFolder;  // removed again if the session fails and it was made for it
   if (!o.out.empty()) {
@@ -75,7 +81,9 @@ const CommandRegistrar registrar("haptics", [](CLI::App& app) {
   cmd->add_flag("--virtual-time", o->virtualTime, "Deterministic: no sleeping, simulation in lockstep");
   cmd->add_option("--sim-cycles-per-tick", o->simCyclesPerTick, "Virtual time: simulation cycles per tick (1)");
   cmd->add_option("--ccd-threads", o->ccdThreads, "CCD worker threads (1)");
-  cmd->add_option("--cache", o->cache, "Cache of fields built from meshes (\"\" disables; default out/cache)");
+  o->cacheOption = cmd->add_option("--cache", o->cache,
+                                   "Cache of fields built from meshes (\"\" disables; default $XDG_CACHE_HOME/sdfccd, "
+                                   "else ~/.cache/sdfccd)");
   return std::function<int()>([o]() { return runHaptics(*o); });
 });
 

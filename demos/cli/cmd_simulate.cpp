@@ -26,6 +26,8 @@
 #include "cli/run_frame_renderer.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
+#include "sdfccd/model/model_cache_folder.h"
+#include "sdfccd/model/runaway_guard.h"
 #include "sdfccd/output_file.h"
 #include "sdfccd/output_folder.h"
 
@@ -37,7 +39,8 @@ struct SimulateOptions {
   int frames = 0;  // 0: the scene's
   int recordEvery = 1;
   std::string out;
-  std::string cache = "out/cache";
+  std::string cache;
+  const CLI::Option* cacheOption = nullptr;  // given: --cache wins, even "" (no cache)
   std::string model;
   double timestep = 0.0;
   double stiffness = 0.0;
@@ -55,6 +58,26 @@ std::string hex(std::uint64_t v) {
   return text;
 }
 
+/// The scene's name as shown on the terminal: control characters (a newline, an escape sequence) become '?',
+/// so a scene file cannot forge output lines or drive the terminal.
+std::string shownName(const std::string& name) {
+  std::string out = name;
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  }
+  return out;
+}
+
+/// The bodies' centre-of-mass motion as the runaway guard reads it.
+std::vector<GuardBodyState> guardStates(const SceneWorld& world) {
+  std::vector<GuardBodyState> states;
+  for (int i = 0; i < world.bodyCount(); ++i) {
+    const SceneBodyState s = world.bodyState(i);
+    states.push_back({s.position, s.linearVelocity});
+  }
+  return states;
+}
+
 int runSimulate(const SimulateOptions& o) {
   const auto wallStart = std::chrono::steady_clock::now();
   const Scene scene = loadScene(o.scene);
@@ -70,14 +93,17 @@ int runSimulate(const SimulateOptions& o) {
     text << sceneFile.rdbuf();
     sceneText = text.str();
   }
-  const std::string outDir = o.out.empty() ? "out/simulate/" + scene.name : o.out;
+  // The scene's name is data: the default run folder gets a sanitized copy (sceneFolderName), never a path
+  // the file chooses ("../../x" stays inside out/simulate/).
+  const std::string outDir = o.out.empty() ? "out/simulate/" + sceneFolderName(scene.name) : o.out;
   OutputFolder runFolder(outDir);
   // Outputs that are the scene, or cannot be written, fail now, not after the build and the run.
   checkOutput(outDir + "/frames.csv", {o.scene});
   checkOutput(outDir + "/summary.json", {o.scene});
 
   SceneWorldSettings settings;
-  settings.cacheDir = o.cache;
+  settings.cacheDir = modelCacheFolder(o.cacheOption->count() > 0 ? &o.cache : nullptr);
+  checkModelCacheWritable(settings.cacheDir);  // before the build, not after it
   if (!o.model.empty()) {
     if (o.model == "continuous") {
       settings.model = PenaltyModel::Continuous;
@@ -87,8 +113,18 @@ int runSimulate(const SimulateOptions& o) {
       throw Error("--model must be continuous or discrete (got '" + o.model + "')");
     }
   }
-  if (o.timestep != 0.0) settings.timestep = o.timestep;
-  if (o.stiffness != 0.0) settings.stiffness = o.stiffness;
+  // Overrides get the ranges the scene file's keys get (a --timestep 5 is as absurd as a "timestep": 5).
+  if (o.timestep != 0.0) {
+    if (!(o.timestep >= 1e-7 && o.timestep <= 1.0)) throw Error("--timestep must be in [1e-07, 1] s");
+    settings.timestep = o.timestep;
+  }
+  if (o.stiffness != 0.0) {
+    if (!(o.stiffness > 0.0 && o.stiffness <= 1e9)) throw Error("--stiffness must be in (0, 1e+09] N/m");
+    settings.stiffness = o.stiffness;
+  }
+  if (settings.model == PenaltyModel::Discrete && scene.contact.mode == SdfccdContactMode::Solver) {
+    throw Error("--model discrete applies to penalty mode only (the scene's contact.mode is solver)");
+  }
   if (o.noToi) settings.timeOfImpactClamp = false;
   if (o.linear) settings.useTree = false;
   if (o.forceTiming == "next_step") {
@@ -101,7 +137,7 @@ int runSimulate(const SimulateOptions& o) {
 
   std::unique_ptr<SceneWorld> world;
   {
-    ProgressBar bar("building " + scene.name);
+    ProgressBar bar("building " + shownName(scene.name));
     settings.buildProgress = bar.callback();
     world = std::make_unique<SceneWorld>(scene, settings);
   }
@@ -150,19 +186,30 @@ int runSimulate(const SimulateOptions& o) {
     out << "," << last.contacts << "," << last.penetrationCells << "," << world->kineticEnergy() << ","
         << last.ccdSeconds << "," << last.stepSeconds << "," << last.clamps << "\n";
   };
+  // The runaway watchdog (issue 14, finding 6): an exploded state stops the run like a NaN does, exit code 3.
+  const RunawayGuard guard(world->scene(), world->kineticEnergy());
+  std::optional<std::string> runaway;  // the first violation
+  int runawayFrame = 0;
+  bool guardStopped = false;
   {
-    ProgressBar bar("simulating " + scene.name);
+    ProgressBar bar("simulating " + shownName(scene.name));
     for (int f = 0; f < frames; ++f) {
       world->step();
       ++done;
       const bool nonFinite = world->hasNonFinite();
-      // Every K-th frame, the last one, and the one that went non-finite.
-      if (done % o.recordEvery == 0 || done == frames || nonFinite) recordFrame();
+      if (!nonFinite && !runaway) {
+        runaway = guard.check(world->time(), guardStates(*world), world->kineticEnergy());
+        if (runaway) runawayFrame = done;
+        guardStopped = runaway && world->scene().guard.action == GuardAction::Stop;
+      }
+      // Every K-th frame, the last one, and the one that went non-finite or ran away.
+      if (done % o.recordEvery == 0 || done == frames || nonFinite || guardStopped) recordFrame();
       bar.update(double(done) / frames);
       if (nonFinite) {
         nan = true;
         break;
       }
+      if (guardStopped) break;
       renderFrame(done);
     }
   }
@@ -192,19 +239,36 @@ int runSimulate(const SimulateOptions& o) {
   summary["tunneled_names"] = tunneled;
   summary["nan_detected"] = nan;
   summary["final_kinetic_energy"] = nan ? 0.0 : world->kineticEnergy();
+  summary["runaway_detected"] = runaway.has_value();
+  summary["runaway"] = runaway ? *runaway : std::string();
+  summary["runaway_frame"] = runawayFrame;
+  summary["guard_stopped"] = guardStopped;
   summary["result_hash"] = hex(world->stateHash());
   writeOutputFile(outDir + "/summary.json", summary.dump(2) + "\n");
   runFolder.keep();
 
-  std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", scene.name.c_str(), done, world->timestep(),
-              world->bodyCount(), summary["model"].get<std::string>().c_str(), scene.effectList().c_str());
+  std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", shownName(scene.name).c_str(), done,
+              world->timestep(), world->bodyCount(), summary["model"].get<std::string>().c_str(),
+              scene.effectList().c_str());
   std::printf(
       "wall %.2f s (build %.2f s, steps %.2f s, CCD %.2f s); max penetration %.3f cells; %zu tunnelled; "
       "%s; final kinetic energy %.6g J\n",
       wallSeconds, buildSeconds, world->stepSeconds(), world->ccdSeconds(), world->maxPenetrationCells(),
-      tunneled.size(), nan ? "NaN DETECTED" : "no NaN", summary["final_kinetic_energy"].get<double>());
-  std::printf("wrote %s/frames.csv and %s/summary.json\n", outDir.c_str(), outDir.c_str());
-  return nan ? 3 : 0;
+      tunneled.size(), nan ? "NaN DETECTED" : (runaway ? "RUNAWAY (guard)" : "no NaN"),
+      summary["final_kinetic_energy"].get<double>());
+  std::printf("wrote %s/frames.csv and %s/summary.json\n", shownName(outDir).c_str(), shownName(outDir).c_str());
+  // A failed run says so on stderr (one line), besides the NaN/summary lines on stdout.
+  if (nan) {
+    std::fprintf(stderr, "sdfccd: error: simulate: scene '%s': the state went non-finite (NaN) at frame %d\n",
+                 shownName(o.scene).c_str(), done);
+    return 3;
+  }
+  if (guardStopped) {
+    std::fprintf(stderr, "sdfccd: error: simulate: scene '%s': runaway stopped at frame %d: %s\n",
+                 shownName(o.scene).c_str(), runawayFrame, shownName(*runaway).c_str());
+    return 3;
+  }
+  return 0;
 }
 
 const CommandRegistrar registrar("simulate", [](CLI::App& app) {
@@ -215,7 +279,9 @@ const CommandRegistrar registrar("simulate", [](CLI::App& app) {
   cmd->add_option("--record-every", o->recordEvery,
                   "Write every K-th frame (and the last) to frames.csv, for long runs (default 1)");
   cmd->add_option("--out", o->out, "Output folder (default: out/simulate/<scene name>)");
-  cmd->add_option("--cache", o->cache, "Body model cache folder (\"\" disables; default out/cache)");
+  o->cacheOption = cmd->add_option("--cache", o->cache,
+                                   "Body model cache folder (\"\" disables; default $XDG_CACHE_HOME/sdfccd, else "
+                                   "~/.cache/sdfccd)");
   cmd->add_option("--model", o->model, "Override the contact model: continuous or discrete");
   cmd->add_option("--timestep", o->timestep, "Override the timestep (s)");
   cmd->add_option("--stiffness", o->stiffness, "Override the contact stiffness (N/m per point)");

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <istream>
 
 #include "sdfccd/error.h"
 
@@ -20,6 +21,30 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+// Input size limits: a record is a few numbers, so a longer line or more records than any experiment needs is
+// not a segments or motions file (e.g. /dev/zero, which has no newline and would fill memory). One line each.
+constexpr std::size_t kMaxLineBytes = 4096;
+constexpr std::size_t kMaxRecords = 20'000'000;
+
+/// std::getline with a length limit: false at the end of the input; throws when a line exceeds kMaxLineBytes.
+bool readBoundedLine(std::istream& in, std::string& line, const std::string& path, int lineNumber) {
+  static thread_local char buffer[kMaxLineBytes + 1];
+  in.getline(buffer, sizeof buffer);
+  const std::streamsize got = in.gcount();
+  if (in.fail() && !in.eof() && !in.bad() && got == static_cast<std::streamsize>(kMaxLineBytes)) {
+    throw Error(path + ":" + std::to_string(lineNumber) + ": line longer than " + std::to_string(kMaxLineBytes) +
+                " bytes (not a CSV of numbers)");
+  }
+  if (got == 0 && !in) return false;  // nothing left (or a read error, reported by the caller)
+  line.assign(buffer);
+  // A NUL byte ends the C string early: the line is not text.
+  const std::size_t stored = static_cast<std::size_t>(got) - (in.eof() ? 0 : 1);
+  if (line.size() != stored) {
+    throw Error(path + ":" + std::to_string(lineNumber) + ": holds a NUL byte (not a CSV of numbers)");
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<CsvNumberLine> readCsvNumberLines(const std::string& path, const std::string& what) {
@@ -27,7 +52,11 @@ std::vector<CsvNumberLine> readCsvNumberLines(const std::string& path, const std
   if (!in) throw Error("cannot read " + what + " file '" + path + "'");
   std::vector<CsvNumberLine> lines;
   std::string line;
-  for (int lineNumber = 1; std::getline(in, line); ++lineNumber) {
+  for (int lineNumber = 1; readBoundedLine(in, line, path, lineNumber); ++lineNumber) {
+    if (lines.size() >= kMaxRecords) {
+      throw Error(path + ":" + std::to_string(lineNumber) + ": more than " + std::to_string(kMaxRecords) +
+                  " records (split the file)");
+    }
     const std::string text = trim(line);
     if (text.empty() || text[0] == '#') continue;
     CsvNumberLine record;

@@ -4,9 +4,11 @@
 ///
 /// @details `sdfccd query` (segments) and `sdfccd query-rigid` (motions) read the same kind of file: one
 /// record per line, values separated by commas (spaces around them ignored), blank lines and lines starting with
-/// `#` skipped. Every value must be a finite number; a bad one gives an sdfccd::Error of one line that names the
-/// file and the line (`FILE:LINE: ...`). The caller checks the number of values per record and reports its own
-/// errors with the record's `where` prefix, so every error of an input file reads the same.
+/// `#` skipped. Lines are at most 4096 bytes and files at most 20 million records (a longer line, a NUL byte or
+/// /dev/zero is one error, not a read until memory runs out). Every value must be a finite number; a bad one gives an
+/// sdfccd::Error of one line that names the file and the line (`FILE:LINE: ...`). The caller checks the number of
+/// values per record and reports its own errors with the record's `where` prefix, so every error of an input file reads
+/// the same.
 #pragma once
 
 #include <string>

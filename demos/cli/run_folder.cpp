@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -22,6 +25,27 @@ namespace sdfccd::cli {
 namespace fs = std::filesystem;
 
 namespace {
+
+/// The value of a CSV field that is a complete number (finite or not); NaN when it is not a number at all.
+double finiteValue(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end == text.c_str() || *end != '\0') return std::numeric_limits<double>::quiet_NaN();
+  return value;
+}
+
+/// True when a field of the row is a number that is not finite ("nan", "inf", "-nan", ...); the column
+/// `textColumn` (a body name, which may read "nan") is skipped.
+bool holdsNonFinite(const std::vector<std::string>& row, int textColumn) {
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    if (static_cast<int>(i) == textColumn) continue;
+    const std::string& field = row[i];
+    char* end = nullptr;
+    const double value = std::strtod(field.c_str(), &end);
+    if (!field.empty() && end != field.c_str() && *end == '\0' && !std::isfinite(value)) return true;
+  }
+  return false;
+}
 
 std::string lowerCase(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -309,6 +333,15 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
     return 0.5 * b.mass * v.squaredNorm() + 0.5 * wInBody.dot(b.principalInertia.cwiseProduct(wInBody));
   };
 
+  auto dropLastFrame = [&] {
+    frames.frameNumbers.pop_back();
+    frames.times.pop_back();
+    frames.worldFromBody.pop_back();
+    for (auto& [name, values] : frames.series) {
+      if (!values.empty()) values.pop_back();
+    }
+  };
+
   double lastKey = std::numeric_limits<double>::quiet_NaN();
   while (readCsvRecord(in, line, recordLine)) {
     const int lineNumber = recordLine;
@@ -317,6 +350,17 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
     if (row.size() != header.size()) {
       throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + " has " + std::to_string(row.size()) +
                   " fields, the header " + std::to_string(header.size()) + " (truncated file?)");
+    }
+    // A run that went non-finite (simulate stops there, exit code 3) ends in a row holding nan or inf: the frames
+    // before it are the run, so they are shown, with one line saying where the run stopped.
+    if (!frames.times.empty() && holdsNonFinite(row, bodyColumn)) {
+      if (bodyColumn >= 0 && frameColumn >= 0 && finiteValue(row[static_cast<std::size_t>(frameColumn)]) == lastKey) {
+        dropLastFrame();  // the long layout's partial frame
+      }
+      std::fprintf(stderr,
+                   "sdfccd: warning: frames '%s' line %d: a non-finite state; the %zu frames before it are used\n",
+                   csvPath.c_str(), lineNumber, frames.times.size());
+      break;
     }
     const double time = number(row, timeColumn, lineNumber);
     const double key = frameColumn >= 0 ? number(row, frameColumn, lineNumber) : time;

@@ -61,11 +61,13 @@ std::shared_ptr<const SdfGrid> sampleCsgObstacle(const CsgObstacle& obstacle) {
   const Vec3 size = box.sizes() + Vec3::Constant(2.0 * obstacle.paddingCells * h);
   Vec3i nodes;
   double total = 1.0;
+  double perAxis[3];
   for (int a = 0; a < 3; ++a) {
-    nodes[a] = static_cast<int>(std::ceil(size[a] / h - 1e-9)) + 1;
-    total *= nodes[a];
+    perAxis[a] = std::ceil(size[a] / h - 1e-9) + 1.0;  // a double: checked before any cast to int
+    total *= perAxis[a];
   }
-  if (total > 64.0 * 1024 * 1024) throw Error("obstacle: grid too large (over 64 M nodes); raise the spacing");
+  if (!(total <= 64.0 * 1024 * 1024)) throw Error("obstacle: grid too large (over 64 M nodes); raise the spacing");
+  for (int a = 0; a < 3; ++a) nodes[a] = static_cast<int>(perAxis[a]);
   std::vector<float> values(static_cast<std::size_t>(total));
   const double offset = obstacle.offsetCells * h;
   std::size_t n = 0;
@@ -87,6 +89,14 @@ void resampleSceneShell(HapticScene& scene, int points) {
 }
 
 namespace {
+
+/// A required direction, normalized. Checked before normalizing: Eigen's normalized() of a zero vector is the zero
+/// vector (no NaN), so a check on the result could never fire.
+Vec3 unitAxis(const Reader& r, const Json& j, const std::string& key, const std::string& where) {
+  const Vec3 v = r.vec3(j, key, where, Vec3::Zero(), true);
+  if (!(v.norm() > 1e-12)) r.fail(Reader::join(where, key), "must be non-zero");
+  return v.normalized();
+}
 
 Rigid readPose(const Reader& r, const Json& j, const std::string& where) {
   Rigid pose = Rigid::Identity();
@@ -170,7 +180,7 @@ void readObstacle(const Reader& r, const Json& root, const std::string& cacheDir
     const std::string where = "obstacle.plane";
     const Json& p = r.object(obstacle, "plane", "obstacle");
     r.checkKeys(p, {"normal", "offset", "cellSize"}, where);
-    scene.plane.emplace(r.vec3(p, "normal", where, Vec3::Zero(), true), r.number(p, "offset", where, 0.0));
+    scene.plane.emplace(unitAxis(r, p, "normal", where), r.number(p, "offset", where, 0.0));
     scene.cellSize = r.positive(p, "cellSize", where, 1e-3);
   } else if (obstacle.contains("mesh")) {
     const std::string where = "obstacle.mesh";
@@ -187,8 +197,9 @@ void readObstacle(const Reader& r, const Json& root, const std::string& cacheDir
       meshName = std::filesystem::path(m.at("path").get<std::string>()).stem().string();
     }
     SdfBuildSettings build;
-    build.resolution = static_cast<int>(r.positive(m, "resolution", where, 64));
-    build.padding = static_cast<int>(r.nonNegative(m, "padding", where, 4));
+    // Counts are read as range-checked integers, never cast from a double (a 1e12 would be undefined behaviour).
+    build.resolution = r.integer(m, "resolution", where, 64, 4, 2048);
+    build.padding = r.integer(m, "padding", where, 4, 0, 64);
     build.threads = 0;
     std::shared_ptr<const SdfGrid> grid = meshObstacleGrid(mesh, build, cacheDir, meshName);
     const double offsetCells = r.number(m, "offsetCells", where, 0.0);
@@ -202,7 +213,7 @@ void readObstacle(const Reader& r, const Json& root, const std::string& cacheDir
   } else {
     CsgObstacle csg;
     csg.spacing = r.positive(obstacle, "spacing", "obstacle", 0.0, true);
-    csg.paddingCells = static_cast<int>(r.nonNegative(obstacle, "paddingCells", "obstacle", 3));
+    csg.paddingCells = r.integer(obstacle, "paddingCells", "obstacle", 3, 0, 1000);
     csg.offsetCells = r.number(obstacle, "offsetCells", "obstacle", 0.0);
     if (!obstacle.contains("solids") || !obstacle.at("solids").is_array() || obstacle.at("solids").empty())
       r.fail("obstacle.solids", "must be a non-empty array");
@@ -238,10 +249,10 @@ Vec3 readShell(const Reader& r, const Json& root, HapticScene& scene) {
   } else if (shape == "cylinder") {
     mesh = makeCylinder(r.positive(shellJson, "radius", where, 0.0, true),
                         r.positive(shellJson, "height", where, 0.0, true),
-                        static_cast<int>(r.positive(shellJson, "segments", where, 64)));
+                        r.integer(shellJson, "segments", where, 64, 3, 4096));
   } else if (shape == "sphere") {
     mesh = makeIcosphere(r.positive(shellJson, "radius", where, 0.0, true),
-                         static_cast<int>(r.nonNegative(shellJson, "subdivisions", where, 3)));
+                         r.integer(shellJson, "subdivisions", where, 3, 0, 7));
   } else if (shape == "mesh") {
     mesh = sceneMesh(r, shellJson, where);
   } else if (shape == "alpha-puzzle-piece") {
@@ -269,8 +280,8 @@ Vec3 readShell(const Reader& r, const Json& root, HapticScene& scene) {
   // (Mesh axes are kept: the off-diagonal inertia of an unsymmetric mesh is dropped, an approximation of
   // the QP's metric and of the penalty object's rotational inertia.)
   ShellSamplingSettings sampling;
-  sampling.points = static_cast<int>(r.positive(shellJson, "points", where, 1000));
-  sampling.iterations = static_cast<int>(r.nonNegative(shellJson, "iterations", where, 10));
+  sampling.points = r.integer(shellJson, "points", where, 1000, 1, 10000000);
+  sampling.iterations = r.integer(shellJson, "iterations", where, 10, 0, 1000);
   sampling.threads = 1;
   scene.tree = std::make_shared<const PointTree>(sampleShell(mesh, sampling));
   scene.shellIterations = sampling.iterations;
@@ -355,7 +366,7 @@ void readChecks(const Reader& r, const Json& root, HapticSceneChecks& checks) {
     const Json& i = r.object(c, "insert", "checks");
     r.checkKeys(i, {"axis", "depth"}, where);
     checks.hasInsert = true;
-    checks.insertAxis = r.vec3(i, "axis", where, Vec3::Zero(), true).normalized();
+    checks.insertAxis = unitAxis(r, i, "axis", where);
     checks.insertDepth = r.number(i, "depth", where, 0.0, true);
   }
   if (c.contains("tunnel")) {
@@ -363,10 +374,9 @@ void readChecks(const Reader& r, const Json& root, HapticSceneChecks& checks) {
     const Json& t = r.object(c, "tunnel", "checks");
     r.checkKeys(t, {"normal", "offset"}, where);
     checks.hasTunnel = true;
-    checks.tunnelNormal = r.vec3(t, "normal", where, Vec3::Zero(), true).normalized();
+    checks.tunnelNormal = unitAxis(r, t, "normal", where);
     checks.tunnelOffset = r.number(t, "offset", where, 0.0, true);
   }
-  if (!checks.insertAxis.allFinite() || !checks.tunnelNormal.allFinite()) r.fail("checks", "axes must be non-zero");
 }
 
 }  // namespace
@@ -402,10 +412,15 @@ HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettin
     const std::string where = "script[" + std::to_string(keys.size()) + "]";
     r.checkObject(k, where);
     r.checkKeys(k, {"t", "position", "rotationVector"}, where);
-    keys.push_back({r.number(k, "t", where, 0.0, true), readPose(r, k, where) * meshFromBody});
+    (void)r.number(k, "t", where, 0.0, /*required=*/true);
+    keys.push_back({r.ranged(k, "t", where, 0.0, 0.0, 3600.0), readPose(r, k, where) * meshFromBody});
   }
-  scene.script = UserScript(std::move(keys));
-  scene.seconds = r.positive(root, "seconds", "", scene.script.duration() + 0.5);
+  try {
+    scene.script = UserScript(std::move(keys));
+  } catch (const Error& e) {  // the script's own checks (increasing times), with the scene and key named
+    r.fail("script", std::string("is invalid: ") + e.what());
+  }
+  scene.seconds = r.ranged(root, "seconds", "", scene.script.duration() + 0.5, 0.0, 3600.0, /*lowOpen=*/true);
 
   readDevice(r, root, scene.device);
   scene.god.mass = scene.mass;

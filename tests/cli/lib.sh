@@ -5,7 +5,8 @@
 # It sets `set -u`, and defines
 #   tool    the sdfccd executable ($1)
 #   assets  the assets folder ($2; empty when not given)
-#   work    a fresh temporary folder, removed on exit
+#   work    a fresh temporary folder, removed on exit (XDG_CACHE_HOME points into it: the default model cache
+#           of simulate and haptics never touches the user's)
 #   fail MESSAGE            print "FAIL: MESSAGE" on stderr and exit 1 (scripts that count failures and go on
 #                           redefine it after sourcing)
 #   skip_without COMMAND WHY   exit 0 with "skipped: WHY" when `sdfccd --help` lists no COMMAND
@@ -18,6 +19,8 @@ tool="${1:?usage: bash script.sh /path/to/sdfccd /path/to/assets}"
 assets="${2:-}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+# Hermetic: the tools' default model cache ($XDG_CACHE_HOME/sdfccd) is inside $work, never the user's.
+export XDG_CACHE_HOME="$work/xdg-cache"
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
 

@@ -34,11 +34,18 @@ std::optional<std::string> findSceneFile(const std::string& given, const SceneFi
 }
 
 std::string readSceneText(const std::string& path) {
+  // Scene files are a few kB; the limit keeps /dev/zero or a mistaken multi-GB file from filling memory.
+  constexpr std::size_t kMaxSceneBytes = 16u << 20;
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("scene '" + path + "': cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string text;
+  char chunk[65536];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxSceneBytes) throw Error("scene '" + path + "': larger than 16 MiB (not a scene file)");
+  }
+  if (in.bad()) throw Error("scene '" + path + "': cannot be read");
+  return text;
 }
 
 void JsonReader::fail(const std::string& where, const std::string& what) const {
@@ -115,11 +122,38 @@ double JsonReader::nonNegative(const Json& j, const std::string& key, const std:
   return v;
 }
 
+double JsonReader::ranged(const Json& j, const std::string& key, const std::string& where, double fallback, double lo,
+                          double hi, bool lowOpen) const {
+  if (!j.contains(key)) return fallback;
+  const double v = number(j, key, where, fallback);
+  const bool above = lowOpen ? v > lo : v >= lo;
+  if (!above || !(v <= hi)) {
+    fail(join(where, key), "must be in " + std::string(lowOpen ? "(" : "[") + numberText(lo) + ", " + numberText(hi) +
+                               "] (got " + numberText(v) + ")");
+  }
+  return v;
+}
+
+Vec3 JsonReader::boundedVec3(const Json& j, const std::string& key, const std::string& where, const Vec3& fallback,
+                             double bound) const {
+  const Vec3 v = vec3(j, key, where, fallback);
+  if (!(v.cwiseAbs().maxCoeff() <= bound)) {
+    fail(join(where, key), "must have components in [-" + numberText(bound) + ", " + numberText(bound) + "] (got " +
+                               numberText(v.cwiseAbs().maxCoeff()) + ")");
+  }
+  return v;
+}
+
 int JsonReader::integer(const Json& j, const std::string& key, const std::string& where, int fallback, int lo,
                         int hi) const {
   if (!j.contains(key)) return fallback;
   const Json& v = j.at(key);
   if (!v.is_number_integer()) fail(join(where, key), "must be an integer");
+  const std::string range = "must be in " + std::to_string(lo) + ".." + std::to_string(hi);
+  // Integers past INT64_MAX arrive as unsigned: compared as unsigned, never converted to a negative.
+  if (v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)) {
+    fail(join(where, key), range + " (got " + std::to_string(v.get<unsigned long long>()) + ")");
+  }
   const long long n = v.get<long long>();
   if (n < lo || n > hi) {
     fail(join(where, key),

@@ -2,6 +2,7 @@
 /// @brief ModelCache: entries named by content key, loaded when intact, else built and stored (model_cache.h).
 #include "sdfccd/model/model_cache.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -11,8 +12,9 @@
 namespace sdfccd {
 namespace {
 
-/// Loads the entry at `path` with `load`; nothing when it is absent or does not load (damaged entries are
-/// rebuilt and overwritten by the caller).
+/// Loads the entry at `path` with `load`; false when it is absent or does not load. A damaged entry (truncated,
+/// overwritten, a header claiming more than memory holds) is never trusted: it is reported with one line on
+/// stderr naming the file, and the caller rebuilds and overwrites it.
 template <class T, class Load>
 bool tryLoad(const std::string& path, Load&& load, T& out) {
   std::error_code ec;
@@ -20,7 +22,11 @@ bool tryLoad(const std::string& path, Load&& load, T& out) {
   try {
     out = load(path);
     return true;
-  } catch (const Error&) {
+  } catch (const std::exception& e) {  // sdfccd::Error from the loaders, std::bad_alloc from an absurd header
+    std::string reason = e.what();
+    std::replace(reason.begin(), reason.end(), '\n', ' ');
+    std::fprintf(stderr, "sdfccd: warning: damaged cache entry '%s' (%s); rebuilding it\n", path.c_str(),
+                 reason.c_str());
     return false;
   }
 }

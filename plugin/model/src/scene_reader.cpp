@@ -14,6 +14,26 @@ namespace {
 using detail::Json;
 using Reader = detail::JsonReader;
 
+// Plausible ranges of scene quantities (SI units). A value outside is a typo or an absurd setting: refused up
+// front with one line naming the key, before it can blow a run up (issue 14, finding 6: stiffness, damping or
+// friction 1e12 and mass 1e-30 ran to 1e9..1e24 J with exit 0; mass 1e30 ended in NaN). Each bound is orders of
+// magnitude beyond the shipped scenes and the textbook tests.
+constexpr double kMinMass = 1e-6;              // kg (a milligram)
+constexpr double kMaxMass = 1e6;               // kg (a thousand tonnes)
+constexpr double kMinLength = 1e-6;            // m, sizes and scales
+constexpr double kMaxLength = 1e4;             // m
+constexpr double kMaxCoordinate = 1e6;         // m, positions and the ground height
+constexpr double kMaxSpeed = 1e4;              // m/s (start velocities)
+constexpr double kMaxAngularSpeed = 1e4;       // rad/s
+constexpr double kMaxGravity = 1e4;            // m/s^2 per component (about 1000 g)
+constexpr double kMinTimestep = 1e-7;          // s
+constexpr double kMaxFriction = 10.0;          // mu
+constexpr double kMaxRestitution = 1.0;        // more would create energy on every bounce
+constexpr double kMaxStiffness = 1e9;          // N/m per point (default 2000)
+constexpr double kMaxStiffnessPerArea = 1e13;  // N/m^3 (default 1e7)
+constexpr double kMaxDamping = 1e6;            // N s/m per point (default 5)
+constexpr double kMaxToiDepthCells = 100.0;    // field cells
+
 ScenePrimitive readPrimitive(const Reader& r, const Json& j, const std::string& where) {
   r.checkObject(j, where);
   r.checkKeys(j, {"type", "half_extents", "radius", "height", "subdivisions"}, where);
@@ -23,12 +43,13 @@ ScenePrimitive readPrimitive(const Reader& r, const Json& j, const std::string& 
     r.fail(Reader::join(where, "type"), "must be box, sphere, cylinder or bowl (got '" + p.type + "')");
   }
   p.halfExtents = r.vec3(j, "half_extents", where, p.halfExtents);
-  p.radius = r.number(j, "radius", where, p.radius);
-  p.height = r.number(j, "height", where, p.height);
-  p.subdivisions = r.integer(j, "subdivisions", where, p.subdivisions, 0, 6);
-  if (!(p.halfExtents.minCoeff() > 0) || !(p.radius > 0) || !(p.height > 0)) {
-    r.fail(where, "sizes must be positive");
+  if (!(p.halfExtents.minCoeff() >= kMinLength) || !(p.halfExtents.maxCoeff() <= kMaxLength)) {
+    r.fail(Reader::join(where, "half_extents"),
+           "must be in [" + Reader::numberText(kMinLength) + ", " + Reader::numberText(kMaxLength) + "] m");
   }
+  p.radius = r.ranged(j, "radius", where, p.radius, kMinLength, kMaxLength);
+  p.height = r.ranged(j, "height", where, p.height, kMinLength, kMaxLength);
+  p.subdivisions = r.integer(j, "subdivisions", where, p.subdivisions, 0, 6);
   return p;
 }
 
@@ -51,29 +72,58 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   b.shell = r.file(j, "shell", where);
   if (b.sdf.empty() != b.shell.empty()) r.fail(where, "\"sdf\" and \"shell\" go together");
   if (!b.sdf.empty() && b.mesh.empty()) r.fail(where, "\"sdf\" and \"shell\" need a \"mesh\"");
-  b.scale = r.number(j, "scale", where, 1.0);
-  if (!(b.scale > 0)) r.fail(Reader::join(where, "scale"), "must be > 0 (got " + Reader::numberText(b.scale) + ")");
+  b.scale = r.ranged(j, "scale", where, 1.0, kMinLength, kMaxLength);
   b.mass = r.number(j, "mass", where, 1.0, !b.isStatic && !b.kinematic);
   if (!b.isStatic && !b.kinematic && !(b.mass > 0))
     r.fail(Reader::join(where, "mass"), "must be > 0 (got " + Reader::numberText(b.mass) + ")");
-  b.position = r.vec3(j, "position", where, Vec3::Zero());
+  if (!b.isStatic && !b.kinematic) b.mass = r.ranged(j, "mass", where, b.mass, kMinMass, kMaxMass);
+  b.position = r.boundedVec3(j, "position", where, Vec3::Zero(), kMaxCoordinate);
   if (j.contains("orientation")) b.orientation = r.unitQuaternion(j, "orientation", where);
   b.velocity = r.vec3(j, "velocity", where, Vec3::Zero());
+  if (!(b.velocity.norm() <= kMaxSpeed)) {
+    r.fail(Reader::join(where, "velocity"), "must be at most " + Reader::numberText(kMaxSpeed) + " m/s (got " +
+                                                Reader::numberText(b.velocity.norm()) + ")");
+  }
   b.angularVelocity = r.vec3(j, "angular_velocity", where, Vec3::Zero());
-  b.friction = r.number(j, "friction", where, b.friction);
-  if (!(b.friction >= 0) || !std::isfinite(b.friction)) {
-    r.fail(Reader::join(where, "friction"), "must be finite and >= 0 (got " + Reader::numberText(b.friction) + ")");
+  if (!(b.angularVelocity.norm() <= kMaxAngularSpeed)) {
+    r.fail(Reader::join(where, "angular_velocity"), "must be at most " + Reader::numberText(kMaxAngularSpeed) +
+                                                        " rad/s (got " + Reader::numberText(b.angularVelocity.norm()) +
+                                                        ")");
   }
-  b.restitution = r.number(j, "restitution", where, b.restitution);
-  if (!(b.restitution >= 0) || !std::isfinite(b.restitution)) {
-    r.fail(Reader::join(where, "restitution"),
-           "must be finite and >= 0 (got " + Reader::numberText(b.restitution) + ")");
-  }
+  b.friction = r.ranged(j, "friction", where, b.friction, 0.0, kMaxFriction);
+  b.restitution = r.ranged(j, "restitution", where, b.restitution, 0.0, kMaxRestitution);
   b.points = r.integer(j, "points", where, 0, 0, 10000000);
   b.pointsGiven = j.contains("points");
   b.resolution = r.integer(j, "resolution", where, 64, 4, 1024);
   b.padding = r.integer(j, "padding", where, 4, 1, 64);
   return b;
+}
+
+/// "guard": the runaway watchdog (runaway_guard.h). Factors below 1 would stop sound runs, so they are refused.
+SceneGuard readGuard(const Reader& r, const Json& g) {
+  r.checkObject(g, "guard");
+  r.checkKeys(g, {"energy_factor", "max_speed", "extent_factor", "action"}, "guard");
+  SceneGuard guard;
+  auto atLeast = [&](const char* key, double fallback, double lo) {
+    const double v = r.number(g, key, "guard", fallback);
+    if (!(v >= lo)) {
+      r.fail(Reader::join("guard", key),
+             "must be >= " + Reader::numberText(lo) + " (got " + Reader::numberText(v) + ")");
+    }
+    return v;
+  };
+  guard.energyFactor = atLeast("energy_factor", guard.energyFactor, 1.0);
+  guard.maxSpeed = atLeast("max_speed", guard.maxSpeed, 1.0);
+  guard.extentFactor = atLeast("extent_factor", guard.extentFactor, 1.0);
+  const std::string action = r.string(g, "action", "guard");
+  if (action == "report") {
+    guard.action = GuardAction::Report;
+  } else if (action == "off") {
+    guard.action = GuardAction::Off;
+  } else if (!action.empty() && action != "stop") {
+    r.fail("guard.action", "must be stop, report or off (got '" + action + "')");
+  }
+  return guard;
 }
 
 }  // namespace
@@ -90,16 +140,18 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   const Json root = r.parseObject(text);
   r.checkKeys(root,
               {"name", "description", "timestep", "frames", "gravity", "effects", "ground", "contact", "bodies",
-               "sleeping", "camera"},
+               "sleeping", "camera", "guard"},
               "");
   Scene s;
   s.name = r.string(root, "name", "");
   (void)r.string(root, "description", "");
   s.timestep = r.number(root, "timestep", "", s.timestep);
-  if (!(s.timestep > 0) || s.timestep > 1.0)
-    r.fail("timestep", "must be in (0, 1] s (got " + Reader::numberText(s.timestep) + ")");
+  if (!(s.timestep >= kMinTimestep) || s.timestep > 1.0) {
+    r.fail("timestep",
+           "must be in [" + Reader::numberText(kMinTimestep) + ", 1] s (got " + Reader::numberText(s.timestep) + ")");
+  }
   s.frames = r.integer(root, "frames", "", s.frames, 1, 100000000);
-  s.gravity = r.vec3(root, "gravity", "", s.gravity);
+  s.gravity = r.boundedVec3(root, "gravity", "", s.gravity, kMaxGravity);
   s.sleeping = r.boolean(root, "sleeping", "", s.sleeping);
   if (root.contains("effects")) {
     const Json& effects = root.at("effects");
@@ -119,7 +171,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     const Json& g = root.at("ground");
     r.checkObject(g, "ground");
     r.checkKeys(g, {"height"}, "ground");
-    s.groundHeight = r.number(g, "height", "ground", 0.0);
+    s.groundHeight = r.ranged(g, "height", "ground", 0.0, -kMaxCoordinate, kMaxCoordinate);
   }
   if (root.contains("camera")) {
     // Read by the renderer (sdfccd simulate --render, sdfccd render); checked here so a typo fails early.
@@ -159,22 +211,17 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     if (c.contains("damping") && c.contains("damping_ratio")) {
       r.fail("contact.damping", "and contact.damping_ratio are exclusive");
     }
-    s.contact.stiffness = r.number(c, "stiffness", "contact", s.contact.stiffness);
-    s.contact.damping = r.number(c, "damping", "contact", s.contact.damping);
-    if (!(s.contact.stiffness > 0)) r.fail("contact.stiffness", "must be > 0");
-    if (!(s.contact.damping >= 0)) r.fail("contact.damping", "must be >= 0");
+    s.contact.stiffness = r.ranged(c, "stiffness", "contact", s.contact.stiffness, 0.0, kMaxStiffness, true);
+    s.contact.damping = r.ranged(c, "damping", "contact", s.contact.damping, 0.0, kMaxDamping);
     if (c.contains("stiffness")) s.contact.stiffnessPerArea = 0.0;  // the paper's per-point law
-    s.contact.stiffnessPerArea = r.number(c, "stiffness_per_area", "contact", s.contact.stiffnessPerArea);
-    if (c.contains("stiffness_per_area") && !(s.contact.stiffnessPerArea > 0)) {
-      r.fail("contact.stiffness_per_area", "must be > 0 (got " + Reader::numberText(s.contact.stiffnessPerArea) + ")");
-    }
+    s.contact.stiffnessPerArea =
+        r.ranged(c, "stiffness_per_area", "contact", s.contact.stiffnessPerArea, 0.0, kMaxStiffnessPerArea, true);
     if (c.contains("damping") || c.contains("damping_ratio")) s.contact.dampingFromRestitution = false;
     s.contact.dampingRatio = r.number(c, "damping_ratio", "contact", s.contact.dampingRatio);
     if (c.contains("damping_ratio") && !(s.contact.dampingRatio >= 0 && s.contact.dampingRatio <= 2)) {
       r.fail("contact.damping_ratio", "must be in [0, 2] (got " + Reader::numberText(s.contact.dampingRatio) + ")");
     }
-    s.contact.friction = r.number(c, "friction", "contact", s.contact.friction);
-    if (!(s.contact.friction >= 0)) r.fail("contact.friction", "must be >= 0");
+    s.contact.friction = r.ranged(c, "friction", "contact", s.contact.friction, 0.0, kMaxFriction);
     if (c.contains("friction")) s.contact.frictionFromBodies = false;
     const std::string frictionModel = r.string(c, "friction_model", "contact");
     if (frictionModel == "regularized") {
@@ -204,22 +251,24 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     }
     s.contact.subintervals = r.integer(c, "subintervals", "contact", s.contact.subintervals, 1, 1000);
     s.contact.timeOfImpactClamp = r.boolean(c, "toi_clamp", "contact", s.contact.timeOfImpactClamp);
-    s.contact.toiDepthCells = r.number(c, "toi_depth_cells", "contact", s.contact.toiDepthCells);
-    if (!(s.contact.toiDepthCells >= 0)) r.fail("contact.toi_depth_cells", "must be >= 0");
+    s.contact.toiDepthCells =
+        r.ranged(c, "toi_depth_cells", "contact", s.contact.toiDepthCells, 0.0, kMaxToiDepthCells);
     s.contact.useTree = r.boolean(c, "tree", "contact", s.contact.useTree);
     const std::string mode = r.string(c, "mode", "contact");
     if (mode == "solver") {
       s.contact.mode = SdfccdContactMode::Solver;
     } else if (mode == "penalty") {
       s.contact.mode = SdfccdContactMode::Penalty;
-    } else if (!mode.empty()) {
+    } else if (!mode.empty()) {  // absent: SceneContact's default mode (solver)
       r.fail("contact.mode", "must be penalty or solver (got '" + mode + "')");
-    }  // no "mode": SceneContact's default (solver)
+    }
     if (model == "discrete" && s.contact.mode == SdfccdContactMode::Solver) {
-      r.fail("contact.model", mode.empty() ? "discrete needs \"mode\": \"penalty\" (contact.mode defaults to solver)"
-                                           : "applies to penalty mode only (contact.mode is solver)");
+      r.fail("contact.model", mode.empty() ? "discrete applies to penalty mode only (contact.mode defaults to solver; "
+                                             "set \"mode\": \"penalty\")"
+                                           : "discrete applies to penalty mode only (contact.mode is solver)");
     }
   }
+  if (root.contains("guard")) s.guard = readGuard(r, root.at("guard"));
   if (!root.contains("bodies") || !root.at("bodies").is_array() || root.at("bodies").empty()) {
     r.fail("bodies", "must be a non-empty array");
   }
@@ -233,6 +282,19 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     ++index;
   }
   return s;
+}
+
+std::string sceneFolderName(const std::string& name) {
+  constexpr std::size_t kMaxLength = 64;  // well below NAME_MAX (255) with room for suffixes
+  std::string out;
+  for (const char c : name.substr(0, kMaxLength)) {
+    const bool safe =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
+    out += safe ? c : '_';
+  }
+  // A leading dot would make ".", ".." or a hidden folder.
+  if (!out.empty() && out.front() == '.') out.front() = '_';
+  return out.empty() ? "scene" : out;
 }
 
 Scene loadScene(const std::string& path, const SceneLoadSettings& settings) {

@@ -7,7 +7,9 @@
 /// parameters, written as 16 hex digits, so a changed mesh or parameter never hits a stale entry. Fields are
 /// stored in the native .sdf format, shells as .ply; both are written atomically (OutputFile), so an
 /// interrupted build never leaves a half-written entry. An entry that fails to load (damaged, truncated) is
-/// rebuilt and overwritten; a cache that cannot be written only costs the next run the build.
+/// reported with one line on stderr ("sdfccd: warning: damaged cache entry '<file>' (...); rebuilding it"), then
+/// rebuilt and overwritten; a cache that cannot be written only costs the next run the build (the tools check
+/// the folder first: checkModelCacheWritable, model_cache_folder.h).
 ///
 /// Thread safety: the cache holds no state beyond its folder; two processes building the same entry at once
 /// both write complete files, and the last rename wins.

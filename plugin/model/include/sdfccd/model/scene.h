@@ -21,6 +21,7 @@
 #include "sdfccd/model/scene_body.h"
 #include "sdfccd/model/scene_camera.h"
 #include "sdfccd/model/scene_contact.h"
+#include "sdfccd/model/scene_guard.h"
 
 namespace sdfccd {
 
@@ -35,12 +36,20 @@ struct Scene {
   bool sleeping = true;               ///< bodies at rest may sleep (Bullet's thresholds); false: always simulated
   std::optional<SceneCamera> camera;  ///< for the renderer; empty: automatic framing
   SceneContact contact;
+  SceneGuard guard;  ///< "guard": the runaway watchdog's limits (sdfccd/model/runaway_guard.h)
   std::vector<SceneBody> bodies;
 
   bool has(const std::string& effect) const { return effects.count(effect) != 0; }
   /// The active effects, sorted, comma-separated.
   std::string effectList() const;
 };
+
+/// The folder name a scene's default run folder gets (`sdfccd simulate` without --out: out/simulate/<this>).
+/// A scene's "name" is data, never a path: every byte outside [A-Za-z0-9._-] (slashes, newlines, control
+/// characters, spaces, non-ASCII) becomes '_', a leading '.' becomes '_' (so no "." or ".." and no hidden
+/// folder), the result is cut to 64 bytes, and an empty name gives "scene". Names that are already safe are
+/// returned unchanged.
+std::string sceneFolderName(const std::string& name);
 
 /// Where the files a scene names (mesh, sdf, shell) are looked for.
 struct SceneLoadSettings {

@@ -68,7 +68,16 @@ class JsonReader {
   /// number() that must be >= 0.
   double nonNegative(const Json& j, const std::string& key, const std::string& where, double fallback,
                      bool required = false) const;
-  /// An integer in lo..hi; `fallback` when absent.
+  /// A finite number in [lo, hi] (in (lo, hi] when `lowOpen`); `fallback` when absent (not checked). The
+  /// bounds are the plausible range of the quantity: a value outside is a typo or an absurd setting, refused with
+  /// one line naming the key and the range before it can blow a run up (issue 14, finding 6).
+  double ranged(const Json& j, const std::string& key, const std::string& where, double fallback, double lo, double hi,
+                bool lowOpen = false) const;
+  /// A vec3 whose components each lie in [-bound, bound]; `fallback` when absent.
+  Vec3 boundedVec3(const Json& j, const std::string& key, const std::string& where, const Vec3& fallback,
+                   double bound) const;
+  /// An integer in lo..hi; `fallback` when absent. Checked as a JSON integer before any cast (a 1e300 or a
+  /// 2^64 is an error, never an out-of-range conversion).
   int integer(const Json& j, const std::string& key, const std::string& where, int fallback, int lo, int hi) const;
   bool boolean(const Json& j, const std::string& key, const std::string& where, bool fallback) const;
   /// A string; "" when absent.
