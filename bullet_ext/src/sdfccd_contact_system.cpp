@@ -192,6 +192,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   if (solver) {
     m_candidates.clear();
     m_candidateBounce.clear();
+    m_candidateDistance.clear();
     m_candidateMargin = 0.0;
   }
   // Penalty mode runs the role's penalty integrals, solver mode collects its candidates.
