@@ -97,9 +97,8 @@ btManifoldPoint makePoint(const ContactCandidate& c, double distance, const btCo
 /// Writes one cluster into `manifold` (see the file comment for the matching rules).
 void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
                   const std::vector<ContactCandidate>& candidates, const std::vector<double>& distances,
-                  const std::vector<double>& bounce,
-                  const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
-                  const Material& material) {
+                  const std::vector<double>& bounce, const btCollisionObjectWrapper* wrapA,
+                  const btCollisionObjectWrapper* wrapB, const Material& material) {
   const btCollisionObject* a = wrapA->getCollisionObject();
   const btCollisionObject* b = wrapB->getCollisionObject();
   const bool wasEmpty = manifold->getNumContacts() == 0;
@@ -119,7 +118,11 @@ void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
                                                               btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK) != 0;
   for (int j = 0; j < cluster.selectedCount; ++j) {
     const std::size_t k = static_cast<std::size_t>(cluster.selected[static_cast<std::size_t>(j)]);
-    btManifoldPoint pt = makePoint(candidates[k], distances[k], a, b, material);
+    // One normal per manifold, the cluster's mean (as Bullet's own manifolds have): single points' normals tilt
+    // where a field's grid interpolation rounds an edge, and tilted rows push a resting stack sideways.
+    ContactCandidate candidate = candidates[k];
+    candidate.normal = cluster.normal;
+    btManifoldPoint pt = makePoint(candidate, distances[k], a, b, material);
     // A point that hits during the step: Bullet aims at restitution - d / dt; d / (approach dt) more makes it e v.
     if (pt.m_combinedRestitution > 0) pt.m_combinedRestitution += btScalar(bounce[k]);
     int index = existingOf[static_cast<std::size_t>(j)];
@@ -252,8 +255,8 @@ void SdfccdContactSystem::writeSolverManifolds(const btCollisionObjectWrapper* w
     btPersistentManifold* m = slots[static_cast<std::size_t>(slotOf[static_cast<std::size_t>(c)])];
     m->setContactBreakingThreshold(breaking);
     m->setContactProcessingThreshold(processing);
-    writeCluster(m, reduced.clusters[static_cast<std::size_t>(c)], m_candidates, m_candidateDistance, m_candidateBounce, wrapA, wrapB,
-                 material);
+    writeCluster(m, reduced.clusters[static_cast<std::size_t>(c)], m_candidates, m_candidateDistance, m_candidateBounce,
+                 wrapA, wrapB, material);
   }
   // Manifolds without a cluster: emptied (the ended callback fires), the extra ones released.
   for (int s = 0; s < kMaxContactClusters; ++s) {
