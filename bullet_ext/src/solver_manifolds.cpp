@@ -123,7 +123,8 @@ void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
     ContactCandidate candidate = candidates[k];
     candidate.normal = cluster.normal;
     btManifoldPoint pt = makePoint(candidate, distances[k], a, b, material);
-    // A point that hits during the step: Bullet aims at restitution - d / dt; d / (approach dt) more makes it e v.
+    // A point that hits during the step: the restitution that makes its rebound rise as from the contact
+    // (solver_contacts.cpp, reboundCoefficient).
     if (pt.m_combinedRestitution > 0) pt.m_combinedRestitution += btScalar(bounce[k]);
     int index = existingOf[static_cast<std::size_t>(j)];
     if (index >= 0) {
