@@ -192,7 +192,9 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   if (solver) {
     m_candidates.clear();
     m_candidateBounce.clear();
+    m_candidateDistance.clear();
     m_candidateMargin = 0.0;
+    m_solverTimeStep = timeStep;
   }
   // Penalty mode runs the role's penalty integrals, solver mode collects its candidates.
   auto respond = [&](const Role& role, const auto& field, double cellSize) {

@@ -67,16 +67,16 @@ Material combinedMaterial(const btCollisionObject* a, const btCollisionObject* b
   return m;
 }
 
-btManifoldPoint makePoint(const ContactCandidate& c, const btCollisionObject* a, const btCollisionObject* b,
-                          const Material& m) {
+btManifoldPoint makePoint(const ContactCandidate& c, double distance, const btCollisionObject* a,
+                          const btCollisionObject* b, const Material& m) {
   const int role = c.point & 1;
   const int shellPoint = c.point >> 1;
-  const Vec3 onA = role == 0 ? c.position : Vec3(c.position + c.normal * c.distance);
-  const Vec3 onB = role == 0 ? Vec3(c.position - c.normal * c.distance) : c.position;
+  const Vec3 onA = role == 0 ? c.position : Vec3(c.position + c.normal * distance);
+  const Vec3 onB = role == 0 ? Vec3(c.position - c.normal * distance) : c.position;
   const btVector3 worldOnA = toBt(onA);
   const btVector3 worldOnB = toBt(onB);
   btManifoldPoint pt(a->getWorldTransform().invXform(worldOnA), b->getWorldTransform().invXform(worldOnB),
-                     toBt(c.normal), btScalar(c.distance));
+                     toBt(c.normal), btScalar(distance));
   pt.m_positionWorldOnA = worldOnA;
   pt.m_positionWorldOnB = worldOnB;
   pt.m_partId0 = pt.m_partId1 = role;
@@ -96,9 +96,9 @@ btManifoldPoint makePoint(const ContactCandidate& c, const btCollisionObject* a,
 
 /// Writes one cluster into `manifold` (see the file comment for the matching rules).
 void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
-                  const std::vector<ContactCandidate>& candidates, const std::vector<double>& bounce,
-                  const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
-                  const Material& material) {
+                  const std::vector<ContactCandidate>& candidates, const std::vector<double>& distances,
+                  const std::vector<double>& bounce, const btCollisionObjectWrapper* wrapA,
+                  const btCollisionObjectWrapper* wrapB, const Material& material) {
   const btCollisionObject* a = wrapA->getCollisionObject();
   const btCollisionObject* b = wrapB->getCollisionObject();
   const bool wasEmpty = manifold->getNumContacts() == 0;
@@ -118,8 +118,13 @@ void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
                                                               btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK) != 0;
   for (int j = 0; j < cluster.selectedCount; ++j) {
     const std::size_t k = static_cast<std::size_t>(cluster.selected[static_cast<std::size_t>(j)]);
-    btManifoldPoint pt = makePoint(candidates[k], a, b, material);
-    // A point that hits during the step: Bullet aims at restitution - d / dt; d / (approach dt) more makes it e v.
+    // One normal per manifold, the cluster's mean (as Bullet's own manifolds have): single points' normals tilt
+    // where a field's grid interpolation rounds an edge, and tilted rows push a resting stack sideways.
+    ContactCandidate candidate = candidates[k];
+    candidate.normal = cluster.normal;
+    btManifoldPoint pt = makePoint(candidate, distances[k], a, b, material);
+    // A point that hits during the step: the restitution that makes its rebound rise as from the contact
+    // (solver_contacts.cpp, reboundCoefficient).
     if (pt.m_combinedRestitution > 0) pt.m_combinedRestitution += btScalar(bounce[k]);
     int index = existingOf[static_cast<std::size_t>(j)];
     if (index >= 0) {
@@ -243,7 +248,7 @@ void SdfccdContactSystem::writeSolverManifolds(const btCollisionObjectWrapper* w
 
   // Thresholds: Bullet's processing threshold; a breaking threshold above every speculative distance.
   double largest = 0.0;
-  for (const ContactCandidate& c : m_candidates) largest = std::max(largest, c.distance);
+  for (double d : m_candidateDistance) largest = std::max(largest, d);
   const btScalar breaking = btScalar(std::max(pair.bulletBreakingThreshold, largest + 2.0 * m_candidateMargin));
   const btScalar processing = std::min(a->getContactProcessingThreshold(), b->getContactProcessingThreshold());
   const Material material = combinedMaterial(a, b);
@@ -251,8 +256,8 @@ void SdfccdContactSystem::writeSolverManifolds(const btCollisionObjectWrapper* w
     btPersistentManifold* m = slots[static_cast<std::size_t>(slotOf[static_cast<std::size_t>(c)])];
     m->setContactBreakingThreshold(breaking);
     m->setContactProcessingThreshold(processing);
-    writeCluster(m, reduced.clusters[static_cast<std::size_t>(c)], m_candidates, m_candidateBounce, wrapA, wrapB,
-                 material);
+    writeCluster(m, reduced.clusters[static_cast<std::size_t>(c)], m_candidates, m_candidateDistance, m_candidateBounce,
+                 wrapA, wrapB, material);
   }
   // Manifolds without a cluster: emptied (the ended callback fires), the extra ones released.
   for (int s = 0; s < kMaxContactClusters; ++s) {

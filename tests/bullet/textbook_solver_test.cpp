@@ -10,8 +10,10 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -19,6 +21,9 @@
 
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/mesh/procedural_meshes.h"
 
 namespace sdfccd {
 namespace {
@@ -157,10 +162,9 @@ TEST(SolverTextbook, InclineShort) {
   EXPECT_NEAR(fitAcceleration(ts, xs) / (kG * (std::sin(t) - 0.5 * std::cos(t))), 1.0, 0.05);
 }
 
-// Open (issue 13; measured 0.63 of 5/7 g sin theta): up to about 1 m/s the sphere rolls at 5/7 g sin theta with
-// omega r = v, then it hops (its centre rises 1.7 mm, contacts drop to 0) and slips. Ghost speculative points ahead
-// of the contact are already dropped (solver_contacts.cpp); the hop's cause is not found yet. Disabled until fixed.
-TEST(SolverTextbook, DISABLED_SphereRollsAtFiveSevenths) {
+// Measured 0.987 of 5/7 g sin theta (4.7 m/s at 2 s). Before the rows were written on the points' arcs
+// (solver_contacts.cpp) the support sat ahead of the centre: 0.63, with a hop above sqrt(2 g r cos theta).
+TEST(SolverTextbook, SphereRollsAtFiveSevenths) {
   const double theta = 20.0;
   std::ostringstream body;
   body << "{\"name\": \"ball\", \"primitive\": {\"type\": \"sphere\", \"radius\": 0.05, \"subdivisions\": 4}, "
@@ -202,9 +206,9 @@ double reboundApex(double e, double height, double timestep = kStep) {
 
 TEST(SolverTextbook, RestitutionReboundsToESquaredH) {
   const double h = 0.3;
-  // e = 0.3 gives 1.23 e^2 h: Bullet integrates the rebound velocity from the speculative gap d, so the apex is
-  // high by up to (1 + e) v dt (1.3 cm here), which is more than 10% of e^2 h = 2.7 cm.
-  for (double e : {0.6, 0.9}) {
+  // Measured 1.019, 1.018, 1.018. Before the rebound target accounted for the gap the speculative point still
+  // had (solver_contacts.cpp, reboundCoefficient), e = 0.3 rose to 1.24 e^2 h.
+  for (double e : {0.3, 0.6, 0.9}) {
     const double apex = reboundApex(e, h);
     EXPECT_NEAR(apex / (e * e * h), 1.0, 0.10) << "e " << e << " apex " << apex;
   }
@@ -275,9 +279,10 @@ TEST(SolverTextbook, StackOfThreeStandsAndSleeps) {
   EXPECT_TRUE(r.allAsleep);
 }
 
-// Open (issue 13): with the default sampled box shells the 10-stack still drifts 8 mm between 1 s and 10 s
-// (2.2 cm with 8-corner shells, 5.7 cm with sampled shells before separated points that never reach their
-// contact plane were dropped). Disabled until fixed; the pyramid stands.
+// Open (issue 13): the 10-stack drifts 5 mm between 1 s and 10 s (it sleeps by about 3 s); the drift is the sway
+// left from the boxes landing on each other (1 mm gaps) and changes chaotically with any detail (1.3 to 11 mm over
+// the variants tried). Bullet's own btBoxShape stack in the same world drifts 3.8 mm. Was 8 mm before grazing
+// points were dropped and each manifold got its cluster's normal. Disabled until fixed; the pyramid stands.
 TEST(SolverTextbook, DISABLED_StackOfTen) {
   expectStands(stand(column(10), 10.0), "10 boxes");
 }
@@ -295,9 +300,9 @@ TEST(SolverTextbook, PyramidOfFifteen) {
   expectStands(stand(boxes, 10.0), "pyramid");
 }
 
-// Open (issue 13): 10 kg on 0.1 kg drifts 2.5 cm between 1 s and 10 s and ends 1.08 cells deep with the default
-// sampled box shells at 1/240 s (Bullet's sequential impulses at a 100:1 mass ratio, 10 iterations). Disabled
-// until fixed.
+// Open (issue 13): 10 kg on 0.1 kg slides off the light box (12 cm; 1.7 to 14 cm over the variants tried) at
+// 1/240 s: Bullet's sequential impulses at a 100:1 mass ratio with 10 iterations. Bullet's own btBoxShape pair in
+// the same world fails the same way (the heavy box falls off). Disabled until fixed.
 TEST(SolverTextbook, DISABLED_HeavyOnLight) {
   std::vector<BoxSpec> boxes = column(2);
   boxes[0].mass = 0.1;
@@ -393,6 +398,59 @@ TEST(SolverTextbook, DampedKineticEnergyNeverAboveItsPreContactMaximum) {
     worst = std::max(worst, energy() - before);
   }
   EXPECT_LE(worst, 1e-3 * before);
+}
+
+TEST(SolverTextbook, TwoChildCompoundRestsOnTheGroundShort) {
+  // Two box children, the second turned 45 degrees about z: each child's shell and field must sit at its own child
+  // frame (a shell placed in the body's frame would leave the turned child's corner 2 cm in the ground).
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  world.setGravity(btVector3(0, btScalar(-kG), 0));
+  SdfccdContactSettings settings;
+  settings.mode = SdfccdContactMode::Solver;
+  auto contacts = registerSdfccdAlgorithms(&world, settings);
+  BodyModelSettings ms;
+  ms.resolution = 32;
+  ms.boxHalfExtents = Vec3::Constant(kHalf);
+  auto model = BodyModel::buildFromMesh(makeBox(Vec3::Constant(kHalf)), ms);
+  SdfccdShape left(model), right(model);
+  btCompoundShape compound;
+  btTransform t;
+  t.setIdentity();
+  t.setOrigin(btVector3(btScalar(-0.08), 0, 0));
+  compound.addChildShape(t, &left);
+  t.setRotation(btQuaternion(btVector3(0, 0, 1), btScalar(kPi / 4)));
+  t.setOrigin(btVector3(btScalar(0.1), 0, 0));
+  compound.addChildShape(t, &right);
+  btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
+  btRigidBody ground(btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &plane));
+  btVector3 inertia;
+  compound.calculateLocalInertia(2, inertia);
+  btRigidBody::btRigidBodyConstructionInfo info(2, nullptr, &compound, inertia);
+  info.m_startWorldTransform.setIdentity();
+  info.m_startWorldTransform.setOrigin(btVector3(0, btScalar(kHalf * std::sqrt(2.0) + 0.01), 0));
+  btRigidBody body(info);
+  world.addRigidBody(&ground);
+  world.addRigidBody(&body);
+  for (int step = 0; step < 480; ++step) world.stepSimulation(btScalar(kStep), 0);
+  const btTransform pose = body.getWorldTransform();
+  const double cell = model->cellSize();
+  EXPECT_TRUE(pose.getOrigin().x() == pose.getOrigin().x());  // not NaN
+  for (const btTransform& child : {compound.getChildTransform(0), compound.getChildTransform(1)}) {
+    double lowest = 1e9;
+    for (const Vec3& p : model->shell().positions) {
+      const btVector3 w = pose * (child * btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z())));
+      lowest = std::min(lowest, double(w.y()));
+    }
+    EXPECT_GT(lowest, -cell);
+  }
+  EXPECT_LT(body.getLinearVelocity().length(), 0.05);
+  world.removeRigidBody(&body);
+  world.removeRigidBody(&ground);
+  world.removeAction(contacts.get());
 }
 
 TEST(SolverTextbook, TwentyBunnyPileSleeps) {

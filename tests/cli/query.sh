@@ -57,6 +57,26 @@ first=$(sed -n 2p "$work/third.csv" | cut -d, -f2)
 awk -v t="$first" 'BEGIN { d = t - 1/3; if (d < 0) d = -d; exit !(d < 1e-13 && length(t) >= 14) }' \
   || fail "t = 1/3 printed as '$first'"
 
+# Very long segments through the field (issue 14, finding 9): the part inside the box is clipped and walked in
+# its own frame, so the hit is found; the fraction is rounded to double precision. Rows 0-2 cross x = 1 near
+# t = 0.5 (2e16 and 2e20 long, and oblique), rows 3-5 reach the field only at their very end, t ~ 1 - 1e-17,
+# where a walk in t used to find nothing (rows: ending inside at x = 0.7, crossing x = 1, and oblique).
+printf '%s\n' '1e16,0.5,0.5,-1e16,0.5,0.5' '1e20,0.5,0.5,-1e20,0.5,0.5' '1e16,0.5,1e15,-1e16,0.5,-1e15' \
+  '-2e16,0.5,0.5,0.7,0.5,0.5' '-2e16,0.5,0.5,1.7,0.5,0.5' '-2e16,0.5,-2e15,1.7,0.5,0.3' > "$work/long.txt"
+for octree in full leaves off; do
+  for method in exact bisection; do
+    "$tool" query "$work/plane.sdfgen" --segments "$work/long.txt" --octree "$octree" --method "$method" \
+      > "$work/long.csv" || fail "long segments --octree $octree --method $method"
+    for expect in 0:0.5 1:0.5 2:0.5 3:1 4:1 5:1; do
+      row=${expect%%:*}
+      first=$(awk -F, -v r="$row" '$1 == r { print $2 }' "$work/long.csv")
+      [ -n "$first" ] || fail "long segment $row ($octree, $method): no hit: $(cat "$work/long.csv")"
+      awk -v t="$first" -v e="${expect#*:}" 'BEGIN { d = t - e; if (d < 0) d = -d; exit !(d < 1e-12) }' ||
+        fail "long segment $row ($octree, $method): first hit $first, expected ${expect#*:}"
+    done
+  done
+done
+
 # Malformed lines: one-line error naming the line, non-zero exit, nothing on stdout.
 check_error() {  # name, file content, expected line number
   printf '%s' "$2" > "$work/bad.txt"

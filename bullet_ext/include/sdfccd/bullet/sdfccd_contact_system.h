@@ -232,8 +232,10 @@ class SdfccdContactSystem : public btActionInterface {
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
   RigidCcdResult m_solverCcd;                  // solver mode: the speculative CCD's buffers
   std::vector<ContactCandidate> m_candidates;  // solver mode: the current pair's candidates (both roles)
-  std::vector<double> m_candidateBounce;       // solver mode: per candidate, d / (approach speed dt) (see writer)
-  double m_candidateMargin = 0.0;              // solver mode: the current pair's largest speculative margin (m)
+  std::vector<double> m_candidateBounce;  // solver mode: per candidate, added to its restitution (solver_contacts.cpp)
+  std::vector<double> m_candidateDistance;  // solver mode: per candidate, the distance Bullet's solver gets (m)
+  double m_candidateMargin = 0.0;           // solver mode: the current pair's largest speculative margin (m)
+  double m_solverTimeStep = 0.0;            // solver mode: the step of the current pair (s)
   RigidCcdResult m_shadowScratch;
   std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;
