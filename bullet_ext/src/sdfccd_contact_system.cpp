@@ -128,6 +128,7 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   step.worldFromBodyEnd = motion.worldFromBodyEnd;
   step.velocity = motion.velocity;
   step.mass = motion.mass;
+  applyContactMass(step, timeStep);
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -386,6 +387,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
   record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
+  addContactLoad(record, role.roleScale);
   record.firstFraction = ccdResult.firstFraction;
   record.timeStep = timeStep;
 
