@@ -204,7 +204,8 @@ class SdfccdContactSystem : public btActionInterface {
     double damping = 0.0;    ///< N s/m, over its pairs
   };
   struct AnchorSlot;
-  BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep);
+  /// This step's motion of the wrapper's object (once per step); `contactMass`: apply applyContactMass.
+  BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep, bool contactMass);
   /// The friction anchors of (manifold, role), created on first use and kept across steps.
   FrictionAnchorTable* anchorTable(const btPersistentManifold* manifold, int role, const btCollisionObject* shell,
                                    const btCollisionObject* field);
