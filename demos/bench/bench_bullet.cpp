@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bullet_mode_bench.h"
 #include "bench/bullet_stability_search.h"
 #include "bench/gimpact_peer.h"
 #include "bench/penetration_probe.h"
@@ -53,8 +54,9 @@ struct BenchBulletOptions {
   std::string cache = "out/cache";
   std::string part = "all";
   std::string forceTiming = "same_step";
-  int peerEvery = 1;     // penetration measured every n-th frame in the peer comparison
-  int peerFrames = 400;  // frames of the peer comparison (0: the scene's); --quick halves it
+  int peerEvery = 1;       // penetration measured every n-th frame in the peer comparison
+  int peerFrames = 400;    // frames of the peer comparison (0: the scene's); --quick halves it
+  ModeBenchOptions modes;  // --part modes and stable
 };
 
 struct Table4Row {
@@ -288,10 +290,18 @@ void runPeer(const BenchBulletOptions& o) {
   csvRow("peer", "gimpact", "margin_m", peer.margin());
 }
 
-int runBenchBullet(const BenchBulletOptions& o) {
-  if (o.part != "all" && o.part != "table4" && o.part != "fig10a" && o.part != "peer") {
-    throw Error("--part must be all, table4, fig10a or peer");
+int runBenchBullet(BenchBulletOptions o) {
+  const std::string parts[] = {"all", "table4", "fig10a", "peer", "modes", "stable"};
+  if (std::find(std::begin(parts), std::end(parts), o.part) == std::end(parts)) {
+    throw Error("--part must be all, table4, fig10a, peer, modes or stable");
   }
+  if (!(o.modes.maxPenetrationCells > 0)) throw Error("--max-penetration-cells must be > 0");
+  if (!(o.modes.timingSeconds > 0) || !(o.modes.gimpactSeconds > 0)) {
+    throw Error("--mode-seconds and --gimpact-seconds must be > 0");
+  }
+  o.modes.quick = o.quick;
+  o.modes.scenes = o.scenes;
+  o.modes.cache = o.cache;
   if (o.peerEvery < 1) throw Error("--peer-every must be >= 1");
   if (o.peerFrames < 0) throw Error("--peer-frames must be >= 0");
   if (o.forceTiming != "next_step" && o.forceTiming != "same_step") {
@@ -303,6 +313,8 @@ int runBenchBullet(const BenchBulletOptions& o) {
   if (o.part == "all" || o.part == "table4") runTable4(o);
   if (o.part == "all" || o.part == "fig10a") runFig10a(o);
   if (o.part == "all" || o.part == "peer") runPeer(o);
+  if (o.part == "all" || o.part == "modes") runModeTiming(o.modes, csvRow);
+  if (o.part == "all" || o.part == "stable") runModeStability(o.modes, csvRow);
   if (!o.csv.empty()) {
     writeOutputFile(o.csv, g_csv.str());
     std::printf("wrote %s\n", o.csv.c_str());
@@ -311,14 +323,21 @@ int runBenchBullet(const BenchBulletOptions& o) {
 }
 
 const BenchRegistrar registrar("bullet",
-                               "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer",
+                               "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer, "
+                               "the contact modes beside Bullet's shapes and their largest stable steps",
                                [](CLI::App& sub) {
                                  auto o = std::make_shared<BenchBulletOptions>();
                                  sub.add_flag("--quick", o->quick, "A quarter of the frames, fewer timesteps");
                                  sub.add_option("--out", o->csv, "CSV output (default bench_bullet.csv; empty: none)");
                                  sub.add_option("--scenes", o->scenes, "Scene folder (default assets/scenes)");
                                  sub.add_option("--cache", o->cache, "Body model cache (default out/cache)");
-                                 sub.add_option("--part", o->part, "all, table4, fig10a or peer");
+                                 sub.add_option("--part", o->part, "all, table4, fig10a, peer, modes or stable");
+                                 sub.add_option("--mode-seconds", o->modes.timingSeconds,
+                                                "Modes: simulated seconds per world (default 1; --quick 0.3)");
+                                 sub.add_option("--gimpact-seconds", o->modes.gimpactSeconds,
+                                                "Modes: simulated seconds of the GImpact world (default 0.4)");
+                                 sub.add_option("--max-penetration-cells", o->modes.maxPenetrationCells,
+                                                "Stable: the criterion's penetration bound in cells (default 8)");
                                  sub.add_option("--peer-every", o->peerEvery,
                                                 "Peer: measure penetration every n-th frame (default 1)");
                                  sub.add_option("--peer-frames", o->peerFrames,

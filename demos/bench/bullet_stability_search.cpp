@@ -3,6 +3,7 @@
 #include "bench/bullet_stability_search.h"
 
 #if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -36,9 +37,11 @@ StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSetting
     world.step();
     if (world.hasNonFinite()) {
       trial.why = "NaN";
-    } else if (energy() > start + 0.05 * std::abs(start) + 0.5) {
-      trial.why = "energy gain";
+      break;
     }
+    const double gain = energy() - start;
+    trial.maxEnergyGain = std::max(trial.maxEnergyGain, gain);
+    if (gain > 0.05 * std::abs(start) + 0.5) trial.why = "energy gain";
   }
   trial.maxPenetrationCells = world.maxPenetrationCells();
   if (trial.why.empty() && !world.tunneledBodies().empty()) trial.why = "tunnelled";

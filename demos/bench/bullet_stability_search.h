@@ -40,7 +40,10 @@ struct StabilityTrial {
   double stiffness = 0.0;  ///< N/m per point
   bool stable = false;
   double maxPenetrationCells = 0.0;  ///< deepest point over the run (field cells)
-  std::string why;                   ///< "NaN", "energy gain", "tunnelled" or "" when stable
+  /// Largest rise of the total energy above its start (J); an unstable run stops at the first breach, so there it
+  /// is a lower bound.
+  double maxEnergyGain = 0.0;
+  std::string why;  ///< "NaN", "energy gain", "tunnelled" or "" when stable
 };
 
 /// Runs one trial of `scene` (see the file comment). Throws sdfccd::Error on bad settings.

@@ -5,8 +5,10 @@
 
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>
+#include <LinearMath/btConvexHullComputer.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <cmath>
 #include <map>
 
 #include "sdfccd/bullet/scene_world.h"
@@ -14,12 +16,13 @@
 
 namespace sdfccd::cli {
 
-/// One mesh in Bullet's single precision, and the GImpact shape over it (shared by the bodies of one model).
+/// One mesh in Bullet's single precision and Bullet's shape over it (shared by the bodies of one model): the
+/// GImpact shape over the triangles, or a convex hull / box (then the arrays stay empty).
 struct GImpactPeerMesh {
   std::vector<btScalar> vertices;
   std::vector<int> indices;
   std::unique_ptr<btTriangleIndexVertexArray> array;
-  std::unique_ptr<btGImpactMeshShape> shape;
+  std::unique_ptr<btCollisionShape> shape;
 };
 
 /// Bullet's objects, destroyed in the right order.
@@ -54,15 +57,38 @@ std::unique_ptr<GImpactPeerMesh> makeMesh(const TriangleMesh& meshInBody) {
   mesh->array = std::make_unique<btTriangleIndexVertexArray>(
       static_cast<int>(meshInBody.triangles.size()), mesh->indices.data(), static_cast<int>(3 * sizeof(int)),
       static_cast<int>(meshInBody.vertices.size()), mesh->vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
-  mesh->shape = std::make_unique<btGImpactMeshShape>(mesh->array.get());
-  mesh->shape->updateBound();  // GImpact needs its bounding volumes built before the first step
+  auto shape = std::make_unique<btGImpactMeshShape>(mesh->array.get());
+  shape->updateBound();  // GImpact needs its bounding volumes built before the first step
+  mesh->shape = std::move(shape);
+  return mesh;
+}
+
+// Bullet's convex fast path for one body: a btBoxShape of the mesh's extent for a box primitive (exact: the box
+// mesh is centred), else a btConvexHullShape of the mesh's hull vertices (the hull computed once, not per step).
+std::unique_ptr<GImpactPeerMesh> makeConvex(const TriangleMesh& meshInBody, bool isBox) {
+  auto mesh = std::make_unique<GImpactPeerMesh>();
+  if (isBox) {
+    Vec3 half = Vec3::Zero();
+    for (const Vec3& v : meshInBody.vertices) half = half.cwiseMax(v.cwiseAbs());
+    mesh->shape = std::make_unique<btBoxShape>(toBt(half));
+    return mesh;
+  }
+  std::vector<double> coords;
+  for (const Vec3& v : meshInBody.vertices) coords.insert(coords.end(), {v.x(), v.y(), v.z()});
+  btConvexHullComputer hull;
+  hull.compute(coords.data(), int(3 * sizeof(double)), int(meshInBody.vertices.size()), 0.0, 0.0);
+  auto shape = std::make_unique<btConvexHullShape>();
+  for (int i = 0; i < hull.vertices.size(); ++i) shape->addPoint(hull.vertices[i], false);
+  shape->recalcLocalAabb();
+  mesh->shape = std::move(shape);
   return mesh;
 }
 
 }  // namespace
 
-GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const BodyModel>>& models)
-    : m_bullet(std::make_unique<GImpactPeerBullet>()), m_timestep(scene.timestep) {
+GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<const BodyModel>>& models,
+                         PeerShape shapeKind, double timestep)
+    : m_bullet(std::make_unique<GImpactPeerBullet>()), m_timestep(timestep > 0.0 ? timestep : scene.timestep) {
   if (models.size() != scene.bodies.size()) throw Error("GImpactPeer: one model per scene body is needed");
   btGImpactCollisionAlgorithm::registerAlgorithm(&m_bullet->dispatcher);
   btDiscreteDynamicsWorld& world = m_bullet->world;
@@ -77,7 +103,9 @@ GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<c
     const SceneBody& b = scene.bodies[i];
     const BodyModel& model = *models[i];
     auto& mesh = m_bullet->meshes[&model];
-    if (!mesh) mesh = makeMesh(model.meshInBody());
+    const bool isBox = b.primitive && b.primitive->type == "box";
+    if (!mesh)
+      mesh = shapeKind == PeerShape::GImpact ? makeMesh(model.meshInBody()) : makeConvex(model.meshInBody(), isBox);
     auto body = makeSceneRigidBody(scene, b, model, mesh->shape.get(), true);  // sleeping as the scene says
     world.addRigidBody(body.get());
     m_bullet->bodies.push_back(std::move(body));
@@ -105,8 +133,43 @@ Rigid GImpactPeer::worldFromBody(int i) const {
 
 double GImpactPeer::margin() const {
   if (m_bullet->meshes.empty()) return 0.0;
-  const btGImpactMeshShape& shape = *m_bullet->meshes.begin()->second->shape;
-  return shape.getMeshPartCount() > 0 ? double(shape.getMeshPart(0)->getMargin()) : double(shape.getMargin());
+  const btCollisionShape& any = *m_bullet->meshes.begin()->second->shape;
+  const auto* gimpact = dynamic_cast<const btGImpactMeshShape*>(&any);
+  if (gimpact && gimpact->getMeshPartCount() > 0) return double(gimpact->getMeshPart(0)->getMargin());
+  return double(any.getMargin());
+}
+
+int GImpactPeer::hullVertices() const {
+  if (m_bullet->meshes.empty()) return 0;
+  const auto* hull = dynamic_cast<const btConvexHullShape*>(m_bullet->meshes.begin()->second->shape.get());
+  return hull ? hull->getNumPoints() : 0;
+}
+
+double GImpactPeer::kineticEnergy() const {
+  double energy = 0.0;
+  for (const auto& b : m_bullet->bodies) {
+    if (!(b->getInvMass() > 0)) continue;
+    const btVector3 w = b->getAngularVelocity() * b->getWorldTransform().getBasis();  // in the body frame
+    const btVector3& invInertia = b->getInvInertiaDiagLocal();
+    double rotational = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      if (invInertia[k] > 0) rotational += double(w[k]) * double(w[k]) / double(invInertia[k]);
+    }
+    energy += 0.5 * double(b->getLinearVelocity().length2()) / double(b->getInvMass()) + 0.5 * rotational;
+  }
+  return energy;
+}
+
+bool GImpactPeer::hasNonFinite() const {
+  for (const auto& b : m_bullet->bodies) {
+    const btTransform& t = b->getWorldTransform();
+    const btVector3 v[4] = {t.getOrigin(), b->getLinearVelocity(), b->getAngularVelocity(),
+                            btVector3(t.getRotation().x(), t.getRotation().y(), t.getRotation().z())};
+    for (const btVector3& x : v) {
+      if (!std::isfinite(x.x()) || !std::isfinite(x.y()) || !std::isfinite(x.z())) return true;
+    }
+  }
+  return false;
 }
 
 int GImpactPeer::solverIterations() const {

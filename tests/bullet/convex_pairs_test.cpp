@@ -59,6 +59,7 @@ struct ConvexWorld {
 
 SdfccdContactSettings dropSettings() {
   SdfccdContactSettings s;
+  s.mode = SdfccdContactMode::Penalty;
   s.penalty = PenaltySettings{};  // the paper's per-point law, as the shipped drop scenes name it
   s.penalty.stiffness = 10000.0;
   s.penalty.damping = 5.0;

@@ -17,7 +17,7 @@ TEST(Drop, BoxRestsAtAnalyticHeight) {
   const Scene scene = test::sceneFromText(R"({
     "timestep": 0.001, "frames": 700, "gravity": [0, -9.81, 0],
     "effects": ["gravity", "ground", "damping", "rotation"],
-    "contact": { "model": "continuous", "stiffness": 2000.0, "damping": 4.0 },
+    "contact": { "mode": "penalty", "model": "continuous", "stiffness": 2000.0, "damping": 4.0 },
     "bodies": [ { "name": "box", "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] },
                   "mass": 1.0, "position": [0, 0.07, 0], "points": 400, "resolution": 24 } ] })");
   SceneWorld world(scene);
@@ -43,7 +43,7 @@ TEST(Drop, SphereRestsAtAnalyticHeight) {
   const Scene scene = test::sceneFromText(R"({
     "timestep": 0.001, "frames": 800, "gravity": [0, -9.81, 0],
     "effects": ["gravity", "ground", "damping"],
-    "contact": { "model": "continuous", "stiffness": 2000.0, "damping": 1.0 },
+    "contact": { "mode": "penalty", "model": "continuous", "stiffness": 2000.0, "damping": 1.0 },
     "bodies": [ { "name": "ball", "primitive": { "type": "sphere", "radius": 0.1, "subdivisions": 4 },
                   "mass": 1.0, "position": [0, 0.13, 0], "points": 1500, "resolution": 24 } ] })");
   SceneWorld world(scene);
@@ -67,7 +67,7 @@ TEST(Drop, SphereRestsAtAnalyticHeight) {
 TEST(Drop, ContactsAreReportedButNotSolvedTwice) {
   const Scene scene = test::sceneFromText(R"({
     "timestep": 0.001, "frames": 300, "effects": ["gravity", "ground", "damping"],
-    "contact": { "stiffness": 2000.0, "damping": 4.0 },
+    "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 4.0 },
     "bodies": [ { "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] }, "mass": 1.0,
                   "position": [0, 0.05, 0], "points": 300, "resolution": 16 } ] })");
   SceneWorld world(scene);
@@ -97,7 +97,7 @@ namespace {
 TEST(Drop, SleepingBodyWakesOnContact) {
   const Scene scene = test::sceneFromText(R"({
     "timestep": 0.001, "frames": 3000, "effects": ["gravity", "ground", "damping"],
-    "contact": { "stiffness": 2000.0, "damping": 4.0 },
+    "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 4.0 },
     "bodies": [
       { "name": "bottom", "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] }, "mass": 1.0,
         "position": [0, 0.0499, 0], "points": 300, "resolution": 16 },

@@ -12,7 +12,7 @@ namespace {
 // A ball (r = 5 cm) at 40 m/s towards a 3 cm plate: 4 cm per step of 1 ms.
 const char* kPlateScene = R"({
   "timestep": 0.001, "frames": 40, "effects": ["damping", "rotation"],
-  "contact": { "model": "continuous", "stiffness": 2000.0, "damping": 2.0 },
+  "contact": { "mode": "penalty", "model": "continuous", "stiffness": 2000.0, "damping": 2.0 },
   "bodies": [
     { "name": "plate", "primitive": { "type": "box", "half_extents": [0.15, 0.015, 0.15] }, "static": true,
       "points": 400, "resolution": 40 },
@@ -43,7 +43,7 @@ TEST(Impact, ThinPlateDiscreteTunnels) {
 TEST(Impact, FreeBodiesConserveLinearMomentum) {
   const Scene scene = test::sceneFromText(R"({
     "timestep": 0.001, "frames": 200, "effects": ["damping", "rotation"],
-    "contact": { "stiffness": 3000.0, "damping": 1.0 },
+    "contact": { "mode": "penalty", "stiffness": 3000.0, "damping": 1.0 },
     "bodies": [
       { "name": "a", "primitive": { "type": "sphere", "radius": 0.05, "subdivisions": 3 }, "mass": 1.0,
         "position": [-0.12, 0.0, 0.0], "velocity": [1.0, 0.0, 0.0], "points": 300, "resolution": 16 },

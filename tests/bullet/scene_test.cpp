@@ -37,7 +37,7 @@ TEST(Scene, EffectsNotListedAreNotComputed) {
 TEST(Scene, DeterministicResultHash) {
   const std::string text = R"({
     "timestep": 0.001, "frames": 250, "effects": ["gravity", "ground", "damping", "rotation"],
-    "contact": { "stiffness": 2000.0, "damping": 3.0 },
+    "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 3.0 },
     "bodies": [
       { "name": "a", "primitive": { "type": "box", "half_extents": [0.05, 0.03, 0.04] }, "mass": 1.0,
         "position": [0, 0.08, 0], "orientation": [0.9238795325112867, 0.3826834323650898, 0, 0],

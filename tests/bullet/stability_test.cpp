@@ -92,7 +92,7 @@ TEST(Stability, RestingBoxGainsNoEnergyAndDoesNotDriftFor100kSteps) {
   const double k = 2000.0, mass = 1.0, halfHeight = 0.05;
   const Scene scene = test::sceneFromText(
       R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
-           "contact": { "stiffness": 2000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
+           "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
       boxBody("box", 0.1, halfHeight, 0.1, mass, 0.052) + " ] }");
   SceneWorld world(scene);
   ASSERT_EQ(world.model(0).shell().size(), 8u);
@@ -137,7 +137,7 @@ TEST(Stability, StackOfThreeBoxesRestsAtAnalyticHeights) {
   }
   const Scene scene = test::sceneFromText(
       R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
-           "contact": { "stiffness": 4000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
+           "contact": { "mode": "penalty", "stiffness": 4000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
       bodies + " ] }");
   SceneWorld world(scene);
   // Settled: the slowest mode (rocking of the stack) has decayed below 1e-11 J of kinetic energy by then.
@@ -180,7 +180,7 @@ void expectMassRatioRests(double lowerMass, double upperMass, double timestep, d
       boxBody("lower", 0.15, h, 0.15, lowerMass, lowerY) + ", " + boxBody("upper", 0.08, h, 0.08, upperMass, upperY);
   char contact[160];
   std::snprintf(contact, sizeof contact,
-                R"("contact": { "stiffness": %.17g, "damping": %.17g, "direction": "field_gradient" })", k, damping);
+                R"("contact": { "mode": "penalty", "stiffness": %.17g, "damping": %.17g, "direction": "field_gradient" })", k, damping);
   const Scene scene =
       test::sceneFromText(R"({ "timestep": )" + std::to_string(timestep) +
                           R"(, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"], )" +
@@ -228,7 +228,7 @@ TEST(Stability, FastBoxIntoTheGroundDoesNotTunnelAndGainsNoEnergy) {
     const double h = 0.05;
     const Scene scene = test::sceneFromText(
         R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
-             "contact": { "stiffness": 2000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
+             "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
         boxBody("box", 0.1, h, 0.1, 1.0, 0.0) + " ] }");
     SceneWorld probe(scene);
     const double cell = probe.model(0).cellSize();
@@ -266,7 +266,7 @@ TEST(Stability, FastBoxIntoAThinPlateDoesNotTunnelAndGainsNoEnergy) {
   for (const double cellsPerStep : {1.0, 10.0, 30.0, 100.0}) {
     const Scene scene = test::sceneFromText(
         R"({ "timestep": 0.001, "sleeping": false, "effects": ["damping", "rotation"],
-             "contact": { "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [
+             "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [
              { "name": "plate", "primitive": { "type": "box", "half_extents": [0.3, 0.015, 0.3] }, "static": true,
                "points": 600, "resolution": 40 }, )" +
         boxBody("box", 0.05, 0.05, 0.05, 1.0, 1.0) + " ] }");
@@ -300,7 +300,7 @@ TEST(Stability, DeeplyInterpenetratedBoxesSeparateWithoutEnergyGain) {
   const double k = 2000.0;
   const Scene scene = test::sceneFromText(
       R"({ "timestep": 0.001, "sleeping": false, "effects": ["damping", "rotation"],
-           "contact": { "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [
+           "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [
            { "name": "a", "primitive": { "type": "box", "half_extents": [0.1, 0.1, 0.1] }, "mass": 1.0,
              "position": [0, 0, 0], "points": 150, "resolution": 16 },
            { "name": "b", "primitive": { "type": "box", "half_extents": [0.1, 0.1, 0.1] }, "mass": 1.0,
@@ -343,7 +343,7 @@ TEST(Stability, CoincidentAndNestedBodiesStayBounded) {
   for (const char* bodies : cases) {
     const Scene scene =
         test::sceneFromText(std::string(R"({ "timestep": 0.001, "sleeping": false, "effects": ["damping", "rotation"],
-             "contact": { "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [ )") +
+             "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [ )") +
                             bodies + " ] }");
     SceneWorld world(scene);
     const double stored = storedPenaltyEnergy(world, 2000.0);
@@ -404,7 +404,8 @@ TEST(Stability, NonFiniteSceneStateIsRejected) {
 // A small box resting on a larger one on the ground (bodies "bottom" and "top"), no sleeping.
 Scene smallBoxOnLargeBox() {
   return test::sceneFromText(
-      R"({ "effects": ["gravity", "ground", "damping", "rotation"], "sleeping": false, "bodies": [
+      R"({ "effects": ["gravity", "ground", "damping", "rotation"], "sleeping": false,
+           "contact": { "mode": "penalty" }, "bodies": [
            { "name": "bottom", "primitive": { "type": "box", "half_extents": [0.15, 0.05, 0.15] }, "mass": 1.0,
              "position": [0, 0.05, 0], "points": 0, "resolution": 12 },
            { "name": "top", "primitive": { "type": "box", "half_extents": [0.05, 0.05, 0.05] }, "mass": 1.0,
@@ -481,7 +482,7 @@ TEST(Stability, ShellNormalForceDirectionDriftsWhereFieldGradientRests) {
   auto run = [](const std::string& direction) {
     const Scene scene = test::sceneFromText(
         R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
-             "contact": { "stiffness": 2000.0, "damping": 5.0, "direction": ")" +
+             "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 5.0, "direction": ")" +
         direction + R"(" }, "bodies": [ )" + boxBody("box", 0.1, 0.05, 0.1, 1.0, 0.052) + " ] }");
     SceneWorld world(scene);
     for (int f = 0; f < 3000; ++f) world.step();

@@ -54,7 +54,7 @@ Scene textbookScene(const std::vector<std::string>& bodies, double mu, const Vec
   j.precision(12);
   j << R"({"timestep": 0.001, "gravity": [)" << gravity.x() << ", " << gravity.y() << ", " << gravity.z()
     << R"(], "effects": ["gravity", "ground", "damping", "rotation", "friction"], "sleeping": )"
-    << (sleeping ? "true" : "false") << R"(, "contact": {"friction": )" << mu << R"(}, "bodies": [)";
+    << (sleeping ? "true" : "false") << R"(, "contact": {"mode": "penalty", "friction": )" << mu << R"(}, "bodies": [)";
   for (std::size_t i = 0; i < bodies.size(); ++i) j << (i ? ", " : "") << bodies[i];
   j << "]}";
   return test::sceneFromText(j.str());
@@ -276,7 +276,7 @@ TEST(TextbookPenalty, EnergyNeverExceedsItsPreContactMaximumShort) {
   std::string bunny = bunnyBody("bunny", Vec3(0, 0, 0));
   bunny.insert(bunny.size() - 1, R"(, "velocity": [2, 0, 0], "angular_velocity": [0, 0, 3])");
   std::ostringstream j;
-  j << R"({"timestep": 0.001, "effects": ["damping", "rotation", "friction"], "contact": {"friction": 0.5},)"
+  j << R"({"timestep": 0.001, "effects": ["damping", "rotation", "friction"], "contact": {"mode": "penalty", "friction": 0.5},)"
     << R"( "sleeping": false, "bodies": [)" << wall << ", " << bunny << "]}";
   SceneWorld world(test::sceneFromText(j.str()), cached());
   world.body(0).setRestitution(1.0);
@@ -423,6 +423,7 @@ TEST(TextbookPenalty, TwoChildCompoundRestsOnTheGroundShort) {
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
   world.setGravity(btVector3(0, btScalar(-kG), 0));
   SdfccdContactSettings settings;
+  settings.mode = SdfccdContactMode::Penalty;
   settings.penalty.frictionFromBodies = false;
   settings.penalty.friction = 0.5;
   auto contacts = registerSdfccdAlgorithms(&world, settings);

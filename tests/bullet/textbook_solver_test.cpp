@@ -423,7 +423,10 @@ TEST(SolverTextbook, SceneKeysShort) {
   EXPECT_EQ(scene.contact.mode, SdfccdContactMode::Solver);
   EXPECT_EQ(scene.bodies[0].friction, 0.25);
   EXPECT_EQ(scene.bodies[0].restitution, 0.5);
-  EXPECT_EQ(test::sceneFromText(R"({"bodies": [)" + body + "]}").contact.mode, SdfccdContactMode::Penalty);
+  EXPECT_EQ(test::sceneFromText(R"({"bodies": [)" + body + "]}").contact.mode, SdfccdContactMode::Solver);
+  EXPECT_EQ(SdfccdContactSettings{}.mode, SdfccdContactMode::Solver);  // the C++ default matches the scene's
+  test::expectOneLineError(
+      [&] { test::sceneFromText(R"({"contact": {"model": "discrete"}, "bodies": [)" + body + "]}"); }, "contact.model");
   test::expectOneLineError(
       [&] { test::sceneFromText(R"({"contact": {"mode": "solver", "model": "discrete"}, "bodies": [)" + body + "]}"); },
       "contact.model");

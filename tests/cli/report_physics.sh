@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Contract test of the physics sections of `sdfccd report` (thin, stability, haptics; issue 8): a smoke run
+# Contract test of the physics sections of `sdfccd report` (thin, stability, protocol, haptics; issues 8 and 13): a smoke run
 # writes report.md with the three sections, their PNGs and CSVs; the key outcomes hold: the continuous model
 # with the time-of-impact clamp never tunnels through the plate, the discrete model tunnels at least once;
 # in the haptic scenes the constraint method never passes the thin wire and the discrete penalty method does.
@@ -10,7 +10,7 @@ ids=""
 has_simulate=0; has_haptics=0
 "$tool" --help | grep -qE "^ +simulate " && has_simulate=1
 "$tool" --help | grep -qE "^ +haptics " && has_haptics=1
-[ "$has_simulate" -eq 1 ] && ids="thin,stability"
+[ "$has_simulate" -eq 1 ] && ids="thin,stability,protocol"
 [ "$has_haptics" -eq 1 ] && ids="${ids:+$ids,}haptics"
 if [ -z "$ids" ]; then echo "skipped: built without Bullet and haptics"; exit 0; fi
 
@@ -49,6 +49,14 @@ if [ "$has_simulate" -eq 1 ]; then
   st="$R/stability_trials.csv"
   [ "$(wc -l < "$st")" -ge 5 ] || fail "stability_trials.csv too short"
   awk -F, 'NR > 1 && ($5 != 0 && $5 != 1) {exit 1}' "$st" || fail "stability_trials.csv: bad stable flag"
+  # Fig. 10a under the paper's protocol (issue 13): every model and timing at every dt; the paper's continuous
+  # model (next-step timing) gains energy somewhere on the grid, ours (same step) is stable at 1 ms.
+  grep -q "^## Fig. 10a under the paper's protocol" "$R/report.md" || fail "report.md lacks the protocol section"
+  pt="$R/protocol_trials.csv"
+  [ "$(grep -c '^"' "$pt")" -eq 12 ] || fail "protocol_trials.csv: $(grep -c '^"' "$pt") trials, expected 4 x 3"
+  grep -q '^"continuous, next step (paper)",[0-9.e-]*,0,' "$pt" ||
+    fail "the paper's continuous model never gained energy: $(cat "$pt")"
+  grep -q '^"continuous, same step (ours)",0.001,1,' "$pt" || fail "ours unstable at 1 ms: $(cat "$pt")"
 fi
 
 if [ "$has_haptics" -eq 1 ]; then

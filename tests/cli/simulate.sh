@@ -9,7 +9,7 @@ value() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.ar
 
 cat > "$work/drop.json" <<'JSON'
 { "timestep": 0.001, "frames": 150, "effects": ["gravity", "ground", "damping"],
-  "contact": { "stiffness": 2000.0, "damping": 4.0 },
+  "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 4.0 },
   "bodies": [ { "name": "box", "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] }, "mass": 1.0,
                 "position": [0, 0.06, 0], "points": 200, "resolution": 12 } ] }
 JSON

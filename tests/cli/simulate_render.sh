@@ -12,7 +12,7 @@ skip_without simulate "no simulate command"
 cat > "$work/scene.json" <<'JSON'
 { "name": "render-smoke", "timestep": 0.002, "frames": 60, "gravity": [0, -9.81, 0],
   "effects": ["gravity", "ground", "damping", "rotation"], "ground": { "height": 0.0 },
-  "contact": { "model": "continuous", "stiffness": 2000.0, "damping": 5.0, "subintervals": 5 },
+  "contact": { "mode": "penalty", "model": "continuous", "stiffness": 2000.0, "damping": 5.0, "subintervals": 5 },
   "bodies": [ { "name": "ball", "primitive": { "type": "sphere", "radius": 0.1, "subdivisions": 2 }, "mass": 1.0,
                 "position": [0, 0.3, 0], "points": 200, "resolution": 24 },
               { "name": "crate", "primitive": { "type": "box", "half_extents": [0.08, 0.05, 0.08] }, "mass": 1.0,

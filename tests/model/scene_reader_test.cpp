@@ -67,7 +67,7 @@ TEST(SceneReader, BadScenesFailWithOneLineNamingTheKey) {
 
 TEST(SceneReader, ReadsContactCameraAndEffects) {
   const Scene s = sceneFromText(withBody(R"("effects": ["ground", "gravity"], "ground": { "height": -0.5 },
-      "contact": { "model": "discrete", "force_timing": "next_step", "direction": "field_gradient" },
+      "contact": { "mode": "penalty", "model": "discrete", "force_timing": "next_step", "direction": "field_gradient" },
       "camera": { "eye": [0, 1, 2], "target": [0, 0, 0] })"));
   EXPECT_EQ(s.effectList(), "gravity,ground");
   EXPECT_EQ(s.groundHeight, -0.5);

@@ -210,11 +210,14 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     const std::string mode = r.string(c, "mode", "contact");
     if (mode == "solver") {
       s.contact.mode = SdfccdContactMode::Solver;
-      if (model == "discrete") r.fail("contact.model", "applies to penalty mode only (contact.mode is solver)");
-    } else if (mode.empty() || mode == "penalty") {
+    } else if (mode == "penalty") {
       s.contact.mode = SdfccdContactMode::Penalty;
-    } else {
+    } else if (!mode.empty()) {
       r.fail("contact.mode", "must be penalty or solver (got '" + mode + "')");
+    }  // no "mode": SceneContact's default (solver)
+    if (model == "discrete" && s.contact.mode == SdfccdContactMode::Solver) {
+      r.fail("contact.model", mode.empty() ? "discrete needs \"mode\": \"penalty\" (contact.mode defaults to solver)"
+                                           : "applies to penalty mode only (contact.mode is solver)");
     }
   }
   if (!root.contains("bodies") || !root.at("bodies").is_array() || root.at("bodies").empty()) {

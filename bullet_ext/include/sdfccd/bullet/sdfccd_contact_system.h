@@ -84,8 +84,9 @@ struct SdfccdSolverPair;
 /// Settings of the contact model, shared by every pair of one world.
 struct SdfccdContactSettings {
   /// Penalty (the paper's model) or Solver (speculative manifold points answered by Bullet's solver; see
-  /// solver_contacts.cpp). The default stays Penalty until the benchmark decides (issue 13).
-  SdfccdContactMode mode = SdfccdContactMode::Penalty;
+  /// solver_contacts.cpp). Solver by default: on the 20-bunny drop it has the larger stable step at a lower cost
+  /// (`sdfccd bench bullet --part modes,stable`, README "Contact response").
+  SdfccdContactMode mode = SdfccdContactMode::Solver;
   /// Solver mode: CCD level set and speculative reach, in cells of the field, capped at maxSpeculativeMargin.
   double speculativeMarginCells = 0.5;
   double maxSpeculativeMargin = 0.002;              ///< m (model units)
