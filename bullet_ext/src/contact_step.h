@@ -24,7 +24,9 @@ struct SdfccdContactSystem::BodyStep {
   Rigid worldFromBodyStart = Rigid::Identity();  // centre-of-mass frame
   Rigid worldFromBodyEnd = Rigid::Identity();
   BodyVelocities velocity;  // of the centre of mass, which is the body origin
-  BodyInverseMass mass;     // zero unless `body`
+  BodyInverseMass mass;     // zero unless `body`; per-area law: of the contact mass (see contactMassScale)
+  /// m / m_contact <= 1: the share of a penalty impulse this body takes (contact mass scaling, per-area law).
+  double contactMassScale = 1.0;
   double clampFraction = 1.0;
   bool clamped = false;
 

@@ -115,7 +115,8 @@ void SdfccdContactSystem::registerWith(btCollisionDispatcher& dispatcher) {
   }
 }
 
-SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionObjectWrapper* wrap, double timeStep) {
+SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionObjectWrapper* wrap, double timeStep,
+                                                             bool contactMass) {
   const btCollisionObject* object = wrap->getCollisionObject();
   const auto found = m_bodyIndex.find(object);
   if (found != m_bodyIndex.end()) return m_bodies[found->second];
@@ -128,6 +129,7 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   step.worldFromBodyEnd = motion.worldFromBodyEnd;
   step.velocity = motion.velocity;
   step.mass = motion.mass;
+  if (contactMass) applyContactMass(step, timeStep);  // not for a closest-point query: it changes velocities
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -174,8 +176,10 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     savedBodies.swap(m_bodies);
     savedIndex.swap(m_bodyIndex);
   }
-  const std::size_t index0 = static_cast<std::size_t>(&bodyStep(wrap0, timeStep) - m_bodies.data());
-  const std::size_t index1 = static_cast<std::size_t>(&bodyStep(wrap1, timeStep) - m_bodies.data());
+  const std::size_t index0 =
+      static_cast<std::size_t>(&bodyStep(wrap0, timeStep, !closestPointsOnly && !solver) - m_bodies.data());
+  const std::size_t index1 =
+      static_cast<std::size_t>(&bodyStep(wrap1, timeStep, !closestPointsOnly && !solver) - m_bodies.data());
   // A body with a non-finite state (set by the user; Bullet integrates whatever it is given) takes part in
   // no contact: its impulses would carry the NaN into the other body.
   if (!m_bodies[index0].finite() || !m_bodies[index1].finite()) {
@@ -388,6 +392,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
   record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
+  addContactLoad(record, role.roleScale);
   record.firstFraction = ccdResult.firstFraction;
   record.timeStep = timeStep;
 

@@ -18,6 +18,7 @@
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
+#include "sdfccd/response/contact_material.h"
 
 namespace sdfccd {
 namespace {
@@ -78,18 +79,19 @@ double fitAcceleration(const std::vector<double>& t, const std::vector<double>& 
 }
 
 struct InclineResult {
-  double acceleration = 0.0;  // m/s^2, fitted over [0.5, 2.5] s
-  double travel = 0.0;        // m, along the slope between 0.5 and 2.5 s
+  double acceleration = 0.0;  // m/s^2, fitted from 0.5 s to the end
+  double travel = 0.0;        // m, along the slope from 0.5 s to the end
 };
 
-/// A 10 cm, 1 kg box on the ground under gravity tilted by theta (the incline), 2.5 s.
-InclineResult runIncline(double thetaDegrees, double mu) {
+/// A 10 cm, 1 kg box on the ground under gravity tilted by theta (the incline), `seconds` (>= 1.5).
+InclineResult runIncline(double thetaDegrees, double mu, double seconds) {
   const double theta = thetaDegrees * kPi / 180.0;
   const Vec3 gravity(kG * std::sin(theta), -kG * std::cos(theta), 0.0);
   SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + 0.0005, 0))}, mu, gravity), cached());
   std::vector<double> ts, xs;
   double x05 = 0.0;
-  for (int step = 1; step <= 2500; ++step) {
+  const int steps = static_cast<int>(std::lround(seconds / 0.001));
+  for (int step = 1; step <= steps; ++step) {
     world.step();
     const double t = step * 0.001;
     const double x = world.bodyState(0).position.x();
@@ -107,10 +109,13 @@ InclineResult runIncline(double thetaDegrees, double mu) {
 
 void expectIncline(double thetaDegrees, double mu) {
   const double theta = thetaDegrees * kPi / 180.0;
-  const InclineResult r = runIncline(thetaDegrees, mu);
   const double expected = kG * (std::sin(theta) - mu * std::cos(theta));
-  std::printf("incline theta %.1f deg mu %.2f: a = %.4f m/s^2 (Coulomb %.4f), travel 0.5-2.5 s = %.3g m\n",
-              thetaDegrees, mu, r.acceleration, std::max(expected, 0.0), r.travel);
+  // Sticking is claimed between 0.5 and 2.5 s; a slide's acceleration is fitted over [0.5, 1.5] s (100 samples;
+  // over [0.5, 2.5] s the slides matched Coulomb within 0.01%, so the longer window only cost time).
+  const double seconds = expected <= 0.0 ? 2.5 : 1.5;
+  const InclineResult r = runIncline(thetaDegrees, mu, seconds);
+  std::printf("incline theta %.1f deg mu %.2f: a = %.4f m/s^2 (Coulomb %.4f), travel 0.5-%.1f s = %.3g m\n",
+              thetaDegrees, mu, r.acceleration, std::max(expected, 0.0), seconds, r.travel);
   if (expected <= 0.0) {
     EXPECT_LT(std::abs(r.travel), 1e-3) << "theta " << thetaDegrees << " mu " << mu;
   } else {
@@ -138,10 +143,10 @@ TEST(TextbookPenalty, InclineSweep) {
   expectIncline(atanDegrees(0.5) + 15.0, 0.5);
 }
 
-// Not reached yet: measured a = 1.66 m/s^2 against 5/7 g sin theta = 2.40 (-31%) while omega r = v holds within
-// 2%: a rolling resistance. Suspects: the damping at zeta = 1 acts on the approaching front of the 15 mm contact
-// patch (2.4 mm deep) more than on its receding back, and fresh anchors at entry stretch inside the patch.
-TEST(TextbookPenalty, DISABLED_SphereRollsAtFiveSeventhsGSinTheta) {
+// The pair's damping is Rayleigh damping of its elastic wrench (penalty_model.cpp, PairDamping): per-point dampers
+// alone, pushing harder on the patch's approaching front than on its receding back, braked the roll to
+// a = 0.69 of 5/7 g sin theta (measured: 1.66 m/s^2; with damping off 0.99); now 0.98.
+TEST(TextbookPenalty, SphereRollsAtFiveSeventhsGSinTheta) {
   const double theta = 20.0 * kPi / 180.0;
   const Vec3 gravity(kG * std::sin(theta), -kG * std::cos(theta), 0.0);
   const std::string sphere =
@@ -166,31 +171,48 @@ TEST(TextbookPenalty, DISABLED_SphereRollsAtFiveSeventhsGSinTheta) {
   EXPECT_NEAR(rolling / s.linearVelocity.x(), 1.0, 0.05);
 }
 
-/// Runs `seconds`, then checks that no dynamic body's centre moved more than 1 mm between t = 1 s and the end
-/// and that the largest penetration at the end is under 1 cell.
+bool allDynamicAsleep(SceneWorld& world) {
+  for (int i = 0; i < world.bodyCount(); ++i) {
+    if (!world.isStatic(i) && world.body(i).getActivationState() != ISLAND_SLEEPING) return false;
+  }
+  return true;
+}
+
+/// Runs up to `seconds`, then checks that no dynamic body's centre moved more than 1 mm between t = 1 s and the
+/// end and that the largest penetration at rest (the last step with contacts) is under 1 cell. Once every
+/// dynamic body sleeps (after 1 s), the run stops: Bullet moves no sleeping body, and nothing in these scenes
+/// wakes one (no external agent, the islands are all asleep), so the positions at `seconds` are those of now.
 void expectStands(SceneWorld& world, double seconds, const std::string& what) {
   const int steps = static_cast<int>(std::lround(seconds / 0.001));
   std::vector<Vec3> at1;
-  for (int step = 1; step <= steps; ++step) {
+  double lastPenetration = 0.0;  // cells, at the last step that had contacts
+  int step = 1;
+  for (; step <= steps; ++step) {
     world.step();
+    double penetration = 0.0;
+    for (const SdfccdPairContact& c : world.contacts().lastStepContacts()) {
+      penetration = std::max(penetration, c.maxPenetrationCells);
+    }
+    if (world.lastFrame().contacts > 0) lastPenetration = penetration;
     if (step == 1000) {
       for (int i = 0; i < world.bodyCount(); ++i) at1.push_back(world.bodyState(i).position);
     }
+    if (step >= 1000 && allDynamicAsleep(world)) break;
   }
   double drift = 0.0;
   for (int i = 0; i < world.bodyCount(); ++i) {
     if (world.isStatic(i)) continue;
     drift = std::max(drift, (world.bodyState(i).position - at1[static_cast<std::size_t>(i)]).norm());
   }
-  double penetration = 0.0;
-  for (const SdfccdPairContact& c : world.contacts().lastStepContacts()) {
-    penetration = std::max(penetration, c.maxPenetrationCells);
-  }
-  std::printf("%s: largest drift 1 s -> %.0f s = %.3g mm, penetration at the end %.3f cells, max ever %.3f\n",
-              what.c_str(), seconds, drift * 1e3, penetration, world.maxPenetrationCells());
+  const double stopped = std::min(step, steps) * 0.001;
+  std::printf(
+      "%s: largest drift 1 s -> %.0f s = %.3g mm (all asleep from %.2f s), penetration at rest %.3f cells, "
+      "max ever %.3f\n",
+      what.c_str(), seconds, drift * 1e3, stopped, lastPenetration, world.maxPenetrationCells());
   EXPECT_FALSE(world.hasNonFinite()) << what;
   EXPECT_LT(drift, 1e-3) << what;
-  EXPECT_LT(penetration, 1.0) << what;
+  EXPECT_GT(lastPenetration, 0.0) << what << ": never in contact";
+  EXPECT_LT(lastPenetration, 1.0) << what;
 }
 
 std::vector<std::string> stack(int count, double gap = 0.001) {
@@ -225,10 +247,10 @@ TEST(TextbookPenalty, PyramidOfFifteenStands) {
   expectStands(world, 10.0, "pyramid of 15");
 }
 
-// Not reached yet: measured 2.08 cells at the end (4.0 at most) and 165 mm of drift. The design's bound (4.7): an
-// explicit penalty at dt carries M/m <= Omega_max^2 cell / (g dt^2) = 0.49 * 3.4e-3 / 9.81e-6 = 170 at resolution
-// 32, so 100:1 should rest 0.6 cell deep; the caps as applied per role do not reach that yet.
-TEST(TextbookPenalty, DISABLED_HeavyOnLightStands) {
+// The light box feels both its contacts at once (omega^2 = (K_ground + 2 K_top) / m): per-pair caps alone left
+// it at the explicit limit (measured 2.08 cells at the end, 165 mm of drift). Contact mass scaling
+// (SdfccdContactSystem::applyContactMass) keeps each body within the caps with its whole load, at full stiffness.
+TEST(TextbookPenalty, HeavyOnLightStands) {
   SceneWorld world(textbookScene({boxBody("light", Vec3(0, kHalf + 0.001, 0), 0.1),
                                   boxBody("heavy", Vec3(0, 3 * kHalf + 0.002, 0), 10.0)},
                                  0.5, Vec3(0, -kG, 0), true),
@@ -275,32 +297,95 @@ TEST(TextbookPenalty, EnergyNeverExceedsItsPreContactMaximumShort) {
   EXPECT_LE(largest, before * (1.0 + 1e-3));
 }
 
-TEST(TextbookPenalty, ReboundFromDampingIsReported) {
-  // Penalty mode: the rebound comes from the damping ratio zeta(e) (design 2.2) and the clamp; reported.
-  for (double e : {0.3, 0.6, 0.9}) {
-    const double h = 0.3;
-    SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + h, 0))}, 0.5), cached());
-    world.body(0).setRestitution(btScalar(e));
-    for (auto* o : {&world.world()}) {
-      btCollisionObjectArray& objects = o->getCollisionObjectArray();
-      for (int i = 0; i < objects.size(); ++i) objects[i]->setRestitution(1.0);
+/// The closed-form rebound of a linear spring-dashpot without tension (it lets go when k x + c v reaches 0, not at
+/// x = 0): with x(t) = A e^(-zeta w t) sin(w_d t), release at tan(w_d t) = -2 zeta sqrt(1 - zeta^2) / (1 - 2 zeta^2),
+/// e = e^(-zeta w t) (zeta w / w_d sin(w_d t) - cos(w_d t)). Above e(zeta) = exp(-zeta pi / sqrt(1 - zeta^2)).
+double noTensionRestitution(double zeta) {
+  const double root = std::sqrt(1.0 - zeta * zeta);
+  double phase = std::atan2(-2.0 * zeta * root, 1.0 - 2.0 * zeta * zeta);  // w_d t, in (pi/2, pi]
+  if (phase <= 0.0) phase += kPi;
+  return std::exp(-zeta * phase / root) * (zeta / root * std::sin(phase) - std::cos(phase));
+}
+
+/// The rebound of the penalty law in one dimension, as the contact system integrates it (same-step timing): a
+/// mass m at approach speed vIn hits a linear spring-dashpot K, C (no tension: each damper stops at zero force)
+/// and each step of dt takes the impulse of the midpoint rule (5 pieces) over the part of the predicted path
+/// x(t) = x0 + v1 t (v1 = v + g dt) that is inside, the damper seeing the velocity interpolated from v to v1;
+/// then v' = v1 - J / m, x' = x0 + v' dt. Returns v_out / v_in. With dt -> 0 it tends to noTensionRestitution
+/// (checked below); at omega dt = 0.32 the same-step impulse, taken over the predicted path, also takes about
+/// alpha / 2 = K dt^2 / 2m of the energy a step.
+double sameStepRestitution(double mass, double stiffness, double damping, double vIn, double dt, double gravity = kG) {
+  double x = -vIn * dt * 0.37;  // penetration (m, > 0 inside); starts outside, arbitrary phase
+  double v = vIn;               // approach speed (m/s)
+  bool inside = false;
+  for (int step = 0; step < 100000; ++step) {
+    const double v1 = v + gravity * dt;
+    double impulse = 0.0;
+    const double x1 = x + v1 * dt;
+    // The part of [0, dt] where x(t) > 0.
+    double a = 0.0, b = dt;
+    if (x <= 0.0 && x1 <= 0.0) {
+      b = a;
+    } else if (x <= 0.0) {
+      a = -x / v1;
+    } else if (x1 <= 0.0) {
+      b = -x / v1;
     }
+    const double piece = (b - a) / 5.0;
+    for (int j = 0; j < 5 && piece > 0.0; ++j) {
+      const double t = a + (j + 0.5) * piece;
+      const double speed = v + (v1 - v) * t / dt;
+      impulse += piece * std::max(0.0, stiffness * (x + v1 * t) + damping * speed);
+    }
+    v = v1 - impulse / mass;
+    x += v * dt;
+    inside = inside || impulse > 0.0;
+    if (inside && x < 0.0 && v < 0.0) return -v / vIn;
+  }
+  return 0.0;
+}
+
+TEST(TextbookPenalty, ReboundIsTheSameStepSpringDashpotsShort) {
+  // Penalty mode: a 1 kg box dropped flat from h = 0.3 m with restitution e. The rebound comes from the damping
+  // ratio zeta(e) of the pair (design 2.2: zeta = -ln e / sqrt(pi^2 + ln^2 e), whose continuous spring-dashpot
+  // gives back e, or a little more without tension) integrated at 1 ms by the same-step scheme: measured
+  // e_eff = 0.25, 0.46, 0.68 for e = 0.3, 0.6, 0.9 (no time-of-impact clamp fires: 2.4 mm a step < 0.5 cell).
+  // The answer to match is that law's rebound (sameStepRestitution), with K = k_A S = 1e7 N/m^3 * 0.01 m^2, and it
+  // must stay below the continuous law's e (the same-step scheme only takes energy away).
+  const double h = 0.3;
+  const double mass = 1.0;
+  const double stiffness = 1.0e7 * (2 * kHalf) * (2 * kHalf);  // N/m, the default k_A times the face
+  const double vIn = std::sqrt(2.0 * kG * h);
+  for (double e : {0.3, 0.6, 0.9}) {
+    SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + h, 0))}, 0.5), cached());
+    btCollisionObjectArray& objects = world.world().getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) objects[i]->setRestitution(1.0);  // the ground: combined e = e_body
     world.body(0).setRestitution(btScalar(e));
     bool hit = false;
-    double apex = 0.0;
-    for (int step = 1; step <= 800; ++step) {
+    double exitSpeed = 0.0;
+    int clamps = 0;
+    for (int step = 1; step <= 800 && exitSpeed == 0.0; ++step) {
       world.step();
-      const SceneBodyState s = world.bodyState(0);
+      clamps += world.lastFrame().clamps;
       if (world.lastFrame().contacts > 0) hit = true;
-      if (hit && s.linearVelocity.y() < 0 && apex > 0) break;
-      if (hit && world.lastFrame().contacts == 0) apex = std::max(apex, s.position.y() - kHalf);
+      if (hit && world.lastFrame().contacts == 0) exitSpeed = world.bodyState(0).linearVelocity.y();
     }
-    std::printf("rebound e = %.1f: apex %.4f m, e^2 h = %.4f m, effective e = %.3f\n", e, apex, e * e * h,
-                std::sqrt(std::max(apex, 0.0) / h));
-    // Reported, not matched: the time-of-impact clamp's inelastic impulse takes part of the rebound (measured
-    // e_eff = 0.25, 0.46, 0.68 for e = 0.3, 0.6, 0.9). It never gains energy.
-    EXPECT_GT(apex, 0.0) << "e " << e;
-    EXPECT_LT(apex, e * e * h) << "e " << e;
+    const double zeta = dampingRatioFromRestitution(e);
+    const double damping = 2.0 * zeta * std::sqrt(stiffness * mass);
+    const double expected = sameStepRestitution(mass, stiffness, damping, vIn, 0.001);
+    const double measured = exitSpeed / vIn;
+    // The reference law itself: at dt = 10 us and without gravity it is the continuous one without tension.
+    EXPECT_NEAR(sameStepRestitution(mass, stiffness, damping, vIn, 1e-5, 0.0), noTensionRestitution(zeta), 0.005);
+    std::printf(
+        "rebound e = %.1f (zeta %.3f): e_eff = %.3f, same-step spring-dashpot %.3f, continuous %.3f (without "
+        "tension %.3f), clamps %d\n",
+        e, zeta, measured, expected, restitutionFromDampingRatio(zeta), noTensionRestitution(zeta), clamps);
+    EXPECT_TRUE(hit) << "e " << e;
+    EXPECT_EQ(clamps, 0) << "e " << e;
+    EXPECT_LT(measured, restitutionFromDampingRatio(zeta)) << "e " << e;
+    // 10%, the tolerance for a rebound (measured ratios 0.95, 0.96, 0.97: the box's edge points and its
+    // friction are not in the one-dimensional law).
+    EXPECT_NEAR(measured / expected, 1.0, 0.10) << "e " << e;
   }
 }
 

@@ -199,12 +199,22 @@ class SdfccdContactSystem : public btActionInterface {
   struct BodyStep;
   struct Record;
   struct Role;
+  /// A body's contact load of one step (per-area law): the stiffness and damping its contacts put on it.
+  struct ContactLoad {
+    double stiffness = 0.0;  ///< N/m, over its pairs; a pair of two dynamic bodies counts twice (Gershgorin)
+    double damping = 0.0;    ///< N s/m, over its pairs
+  };
   struct AnchorSlot;
-  BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep);
+  /// This step's motion of the wrapper's object (once per step); `contactMass`: apply applyContactMass.
+  BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep, bool contactMass);
   /// The friction anchors of (manifold, role), created on first use and kept across steps.
   FrictionAnchorTable* anchorTable(const btPersistentManifold* manifold, int role, const btCollisionObject* shell,
                                    const btCollisionObject* field);
   void applyPenaltyImpulses(const Record& record);
+  /// Per-area law: scales a dynamic body's mass for the contact response by last step's contact load.
+  void applyContactMass(BodyStep& step, double timeStep) const;
+  /// Per-area law: adds this role's stiffness and damping (m_scratch.coefficients) to its bodies' next load.
+  void addContactLoad(const Record& record, double roleScale);
   static ImpactBody impactBody(const BodyStep& body);
   static void setVelocities(const BodyStep& body, const ImpactBody& impact);
   /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
@@ -227,6 +237,8 @@ class SdfccdContactSystem : public btActionInterface {
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
+  // Per-area law: each dynamic body's contact load of the last step (read) and of this step (written).
+  std::unordered_map<const btCollisionObject*, ContactLoad> m_contactLoads, m_nextContactLoads;
   std::map<std::pair<const btPersistentManifold*, int>, std::unique_ptr<AnchorSlot>> m_anchorSlots;
   std::vector<SdfccdPairContact> m_lastContacts;
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers

@@ -121,11 +121,55 @@ Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t
   return normal / normalLength;
 }
 
-/// Adds the force at fraction t, weighted by `weight` seconds, to `io`. Returns the depth d (model units).
+/// The pair's damping as Rayleigh (stiffness-proportional) damping of its elastic wrench W (per-area law,
+/// continuous model; README "Contact response"). The per-point dampers c_i v_n,i are stiffness-proportional
+/// (c_i = beta k_i), so their force is beta times the rate of change of the elastic force; their torque,
+/// h x (beta d/dt f), misses the part of beta d/dt (h x f) that comes from the handle h moving, beta (dh/dt x f)
+/// (the lever term; dh_shell/dt = w_s x h_s for the shell's material point, dh_field/dt = v_point - v_com,field).
+/// Without it a patch that travels through the shell is damped as if it deformed: on a rolling sphere the points
+/// enter in front and leave behind and W stays constant, yet the dampers push harder on the approaching front
+/// than on the receding back and brake the roll (measured a = 0.69 of 5/7 g sin theta). With it the pair's
+/// damping is beta dW/dt: it damps what changes the wrench (approach, bounce, rocking), not a steady roll. For
+/// that sum to hold, a point's damper is not clamped at zero on its own (a receding point may pull) but the
+/// pair's: damping never takes more than the pair's elastic impulse along its direction (finishPairDamping).
+struct PairWrench {
+  Vec3 forceOnField = Vec3::Zero();   // N s
+  Vec3 torqueOnField = Vec3::Zero();  // N m s, about the field body's centre of mass
+  Vec3 torqueOnShell = Vec3::Zero();  // N m s, about the shell body's centre of mass
+
+  void add(const Vec3& onField, const Vec3& handleField, const Vec3& handleShell) {
+    forceOnField += onField;
+    torqueOnField += handleField.cross(onField);
+    torqueOnShell -= handleShell.cross(onField);
+  }
+};
+
+struct PairDamping {
+  Vec3 elastic = Vec3::Zero();  // N s, the elastic impulse on the field body
+  PairWrench damping;           // the damping impulses (dampers and lever term)
+};
+
+/// Damping never pulls the pair together: scales its damping down to cancel at most the elastic impulse.
+void finishPairDamping(const PairDamping& pair, PenaltyResult& io) {
+  const double elasticLength = pair.elastic.norm();
+  if (!(elasticLength > 0.0)) return;
+  const Vec3 direction = pair.elastic / elasticLength;
+  const double damping = pair.damping.forceOnField.dot(direction);
+  if (elasticLength + damping >= 0.0) return;
+  const double remove = 1.0 - elasticLength / -damping;  // share of the damping taken back
+  io.impulseOnField -= remove * pair.damping.forceOnField;
+  io.impulseOnShell += remove * pair.damping.forceOnField;
+  io.angularImpulseOnField -= remove * pair.damping.torqueOnField;
+  io.angularImpulseOnShell -= remove * pair.damping.torqueOnShell;
+}
+
+/// Adds the force at fraction t, weighted by `weight` seconds, to `io`. With `pairDamping`, the damping is the
+/// pair's Rayleigh damping (see PairDamping). Returns the depth d (model units).
 template <class Field>
 double addPenaltySample(const Field& field, const PenaltyPointPath& path, const ShellMotion& shell,
                         const FieldMotion& fieldBody, double t, double weight, const PenaltySettings& settings,
-                        const PenaltyRoleInput& input, bool useDamping, bool useFriction, PenaltyResult& io) {
+                        const PenaltyRoleInput& input, bool useDamping, bool useFriction, PenaltyResult& io,
+                        PairDamping* pairDamping = nullptr) {
   const Vec3 pointInSdf = lerp(path.pointInSdfStart, path.pointInSdfEnd, t);
   const double depth = field.distance(pointInSdf) - settings.sigma;
   if (!(depth < 0.0)) return depth;
@@ -142,21 +186,42 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
     handleField = lerp(path.handleFieldStart, path.handleFieldEnd, t);
   }
   Vec3 relativeVelocity = Vec3::Zero();  // of the shell's point relative to the field body's material point
+  Vec3 handleRateShell = Vec3::Zero();   // d/dt of the handles with the point's own motion (lever damping)
+  Vec3 handleRateField = Vec3::Zero();
   if (needVelocity) {
     const BodyVelocities& s = shell.velocity;
     const BodyVelocities& f = fieldBody.velocity;
-    const Vec3 velocityShell =
-        lerp(s.linearStart, s.linearEnd, t) + lerp(s.angularStart, s.angularEnd, t).cross(handleShell);
+    handleRateShell = lerp(s.angularStart, s.angularEnd, t).cross(handleShell);
+    const Vec3 velocityShell = lerp(s.linearStart, s.linearEnd, t) + handleRateShell;
     const Vec3 velocityField =
         lerp(f.linearStart, f.linearEnd, t) + lerp(f.angularStart, f.angularEnd, t).cross(handleField);
+    handleRateField = velocityShell - lerp(f.linearStart, f.linearEnd, t);
     relativeVelocity = velocityShell - velocityField;
   }
+  double pushMagnitude = magnitude;  // the normal force of the impulse (N)
   if (useDamping) {
     ++io.dampingEvaluations;
     const double approachSpeed = relativeVelocity.dot(normal);  // m/s, > 0 approaching
-    magnitude = std::max(0.0, magnitude + path.damping * approachSpeed);
+    const double elastic = magnitude;
+    magnitude = std::max(0.0, elastic + path.damping * approachSpeed);
+    pushMagnitude = magnitude;
+    if (pairDamping != nullptr) {
+      // Rayleigh damping of the pair (addLeverDamping): the point's damper is not clamped here but with the
+      // pair's total (finishPairDamping); `magnitude` (>= 0) still bounds the point's friction.
+      pushMagnitude = elastic + path.damping * approachSpeed;
+      const Vec3 dampingImpulse = (weight * path.damping * approachSpeed) * normal;
+      pairDamping->elastic += (weight * elastic) * normal;
+      pairDamping->damping.add(dampingImpulse, handleField, handleShell);
+      if (settings.enableRotation) {
+        const Vec3 betaElastic = (input.dampingPerStiffness * weight * elastic) * normal;
+        pairDamping->damping.torqueOnField += handleRateField.cross(betaElastic);
+        pairDamping->damping.torqueOnShell -= handleRateShell.cross(betaElastic);
+        io.angularImpulseOnField += handleRateField.cross(betaElastic);
+        io.angularImpulseOnShell -= handleRateShell.cross(betaElastic);
+      }
+    }
   }
-  Vec3 impulseOnField = (weight * magnitude) * normal;
+  Vec3 impulseOnField = (weight * pushMagnitude) * normal;
   if (useFriction) {
     ++io.frictionEvaluations;
     if (settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr) {
@@ -259,6 +324,10 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   const bool useFriction = settings.enableFriction && settings.friction > 0.0;
   const bool anchored = useFriction && settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr;
   const bool discrete = settings.model == PenaltyModel::Discrete;
+  // The per-area law's damping (dampingPerStiffness) is the pair's Rayleigh damping in the continuous model; the
+  // paper's per-point damping and the discrete model keep per-point dampers clamped at zero.
+  PairDamping pairDamping;
+  PairDamping* rayleigh = useDamping && input.dampingPerStiffness > 0.0 && !discrete ? &pairDamping : nullptr;
   const int pieces = std::max(1, settings.subintervals);
   if (anchored) input.anchors->beginMatch();
   for (const PointContact& contact : ccd.contacts) {
@@ -287,7 +356,7 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
         for (int j = 0; j < pieces; ++j) {
           const double t = interval.begin + (j + 0.5) * width;
           if (addPenaltySample(field, path, shell, fieldBody, t, width * timestep, settings, input, useDamping,
-                               useFriction, result) < 0.0) {
+                               useFriction, result, rayleigh) < 0.0) {
             pushed = true;
           }
         }
@@ -312,6 +381,7 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
     }
   }
   if (anchored) input.anchors->endMatch();
+  if (rayleigh != nullptr) finishPairDamping(pairDamping, result);
   finishPenaltyResult(timestep, result);
   return result;
 }

@@ -28,6 +28,11 @@
 /// - The field body receives F(t) = (k |d| + c v_n) N(t); the shell body receives -F(t). v_n is the normal
 ///   velocity of the shell's point relative to the field body's material point at the same place, positive
 ///   when approaching (along N). The total normal force is clamped at zero: damping never pulls bodies together.
+///   Per-area law in the continuous model (dampingPerStiffness, c_i = beta k_i): the pair's damping is Rayleigh
+///   damping of its elastic wrench W, beta dW/dt: each point's damper is unclamped, the torque gets the lever term
+///   beta (dh/dt x k |d| N) of the handles that move with the point, and the clamp is the pair's (damping never
+///   cancels more than the elastic impulse along its direction). A steady patch travelling through a rolling
+///   shell is then not damped (penalty_model.cpp, PairDamping).
 /// - Handles r(t) go from each body's centre of mass to the point; they and the velocities are linear in t.
 /// - Damping integrals are only evaluated when enableDamping is set (and damping > 0); torques only when
 ///   enableRotation is set: effects a scene does not ask for cost nothing.
