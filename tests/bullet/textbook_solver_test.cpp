@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -279,10 +280,17 @@ TEST(SolverTextbook, StackOfThreeStandsAndSleeps) {
   EXPECT_TRUE(r.allAsleep);
 }
 
-// Open (issue 13): the 10-stack drifts 5 mm between 1 s and 10 s (it sleeps by about 3 s); the drift is the sway
-// left from the boxes landing on each other (1 mm gaps) and changes chaotically with any detail (1.3 to 11 mm over
-// the variants tried). Bullet's own btBoxShape stack in the same world drifts 3.8 mm. Was 8 mm before grazing
-// points were dropped and each manifold got its cluster's normal. Disabled until fixed; the pyramid stands.
+// Open (issue 13): the 10-stack drifts 5 mm between 1 s and 10 s at Bullet's 10 iterations (it sleeps by about
+// 3 s). Measured mechanism (per-step dumps of the manifolds between boxes 4 and 5, README "Open"): a slow creep in
+// resting contact, along the 0.26 degree tilt of the cluster normal and growing up the column (box 0: 0.6 mm, box 9:
+// 4.5 mm), that the solver's unconverged answer does not hold; it is kicked by point changes (the point set changes
+// in 158 of 2160 steps after 1 s: clusters 26-28 degrees off vertical appear for a step or two at the coincident
+// edges, where the field's gradient rounds within a cell, and new points start without warm-start impulse) and by
+// Bullet's single friction row, whose direction follows the lateral velocity and turns between steps under the
+// warm-started lateral impulse. The result is chaotic: 1 to 26 mm over every variant tried (matching, hysteresis,
+// friction directions and anchors, edge normals, warm-start factor); 30 and 40 iterations pass, 50 gives 1.2 mm.
+// Bullet's own btBoxShape column in a plain Bullet world (same step, mu, sleeping) drifts 4.1 / 2.0 / 2.1 / 0.4 /
+// 1.9 mm at 10 / 20 / 30 / 40 / 50 iterations. Disabled until fixed; the pyramid stands.
 TEST(SolverTextbook, DISABLED_StackOfTen) {
   expectStands(stand(column(10), 10.0), "10 boxes");
 }
@@ -300,14 +308,70 @@ TEST(SolverTextbook, PyramidOfFifteen) {
   expectStands(stand(boxes, 10.0), "pyramid");
 }
 
-// Open (issue 13): 10 kg on 0.1 kg slides off the light box (12 cm; 1.7 to 14 cm over the variants tried) at
-// 1/240 s: Bullet's sequential impulses at a 100:1 mass ratio with 10 iterations. Bullet's own btBoxShape pair in
-// the same world fails the same way (the heavy box falls off). Disabled until fixed.
+// Open (issue 13): 10 kg on 0.1 kg slides off the light box (12 cm at 10 iterations, 1/240 s). Measured mechanism:
+// Gauss-Seidel at a 100:1 mass ratio does not converge in 10 iterations, so the light box is pushed up to 2.3 mm into
+// the ground and bounces by about 1 mm every few steps; the heavy box slides steadily at about 4.5 mm/s from 0.15 s,
+// helped by clusters 48 degrees off vertical where the light box's top face lies under the heavy box's bottom edge,
+// and falls off. 20 iterations: 6.8 mm; 30 and 40 pass. Bullet's own btBoxShape pair in a plain Bullet world moves
+// 196 / 173 / 5.7 / 3.4 / 16 mm at 10 / 20 / 30 / 40 / 50 iterations: it never stands. Disabled until fixed.
 TEST(SolverTextbook, DISABLED_HeavyOnLight) {
   std::vector<BoxSpec> boxes = column(2);
   boxes[0].mass = 0.1;
   boxes[1].mass = 10.0;
   expectStands(stand(boxes, 10.0), "10 kg on 0.1 kg");
+}
+
+/// Bullet's own btBoxShapes (default margin, btPersistentManifold's own matching and refresh) in a plain Bullet world
+/// at 1/240 s with Bullet's solver defaults, friction 0.5 on a plane of friction 1, sleeping on: the largest centre
+/// motion between t = 1 s and 10 s of boxes of 10 cm and `masses`, stacked with 1 mm gaps (the solver-mode cases).
+double bulletBoxStandMotion(const std::vector<double>& masses) {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher(&config);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+  world.setGravity(btVector3(0, btScalar(-kG), 0));
+  btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
+  btRigidBody ground(0, nullptr, &plane);
+  ground.setFriction(1);
+  world.addRigidBody(&ground);
+  const btScalar half = btScalar(kHalf);
+  btBoxShape shape{btVector3(half, half, half)};
+  std::vector<std::unique_ptr<btDefaultMotionState>> states;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  for (std::size_t i = 0; i < masses.size(); ++i) {
+    btVector3 inertia;
+    shape.calculateLocalInertia(btScalar(masses[i]), inertia);
+    btTransform start = btTransform::getIdentity();
+    start.setOrigin(btVector3(0, btScalar(kHalf + double(i) * (2 * kHalf + 0.001)), 0));
+    states.push_back(std::make_unique<btDefaultMotionState>(start));
+    bodies.push_back(std::make_unique<btRigidBody>(
+        btRigidBody::btRigidBodyConstructionInfo(btScalar(masses[i]), states.back().get(), &shape, inertia)));
+    bodies.back()->setFriction(0.5);
+    world.addRigidBody(bodies.back().get());
+  }
+  std::vector<btVector3> at1;
+  for (int step = 1; step <= 2400; ++step) {
+    world.stepSimulation(btScalar(kStep), 0);
+    if (step == 240) {
+      for (const auto& b : bodies) at1.push_back(b->getWorldTransform().getOrigin());
+    }
+  }
+  double motion = 0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    motion = std::max(motion, double((bodies[i]->getWorldTransform().getOrigin() - at1[i]).length()));
+  }
+  for (const auto& b : bodies) world.removeRigidBody(b.get());
+  world.removeRigidBody(&ground);
+  return motion;
+}
+
+// The reference for the two open cases above: Bullet's own boxes under the same criterion. Fails at Bullet's
+// defaults (measured 4.1 mm and 196 mm at 10 iterations), so the criterion is beyond the sequential-impulse solver
+// itself there, not only beyond our manifolds. Disabled: it documents Bullet, it does not test sdfccd.
+TEST(SolverTextbook, DISABLED_BulletOwnBoxesStandReference) {
+  EXPECT_LT(bulletBoxStandMotion(std::vector<double>(10, 1.0)), 1e-3) << "btBoxShape column of 10";
+  EXPECT_LT(bulletBoxStandMotion({0.1, 10.0}), 1e-3) << "btBoxShape 10 kg on 0.1 kg";
 }
 
 TEST(SolverTextbook, RestingBoxImpulseCarriesItsWeightShort) {
