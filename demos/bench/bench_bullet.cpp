@@ -322,7 +322,7 @@ int runBenchBullet(BenchBulletOptions o) {
   return 0;
 }
 
-const BenchRegistrar registrar("bullet",
+const BenchRegistrar bench_bulletRegistrar("bullet",
                                "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer, "
                                "the contact modes beside Bullet's shapes and their largest stable steps",
                                [](CLI::App& sub) {

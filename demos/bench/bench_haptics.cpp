@@ -147,7 +147,7 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
   return 0;
 }
 
-const BenchRegistrar registrar(
+const BenchRegistrar bench_hapticsRegistrar(
     "haptics", "Alpha puzzle 1 kHz target and Fig. 7b: haptic simulation cycle time and contacts vs shell points",
     [](CLI::App& cmd) {
       auto o = std::make_shared<BenchHapticsOptions>();

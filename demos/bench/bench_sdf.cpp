@@ -100,7 +100,7 @@ int runBenchSdf(const BenchSdfOptions& o) {
   return 0;
 }
 
-const BenchRegistrar registrar("sdf", "Table 1: SDF build time and memory for the bunny", [](CLI::App& sub) {
+const BenchRegistrar bench_sdfRegistrar("sdf", "Table 1: SDF build time and memory for the bunny", [](CLI::App& sub) {
   auto o = std::make_shared<BenchSdfOptions>();
   sub.add_flag("--quick", o->quick, "Only 64^3 and 128^3");
   sub.add_option("--out", o->csv, "CSV output (default bench_sdf.csv; empty: none)");

@@ -235,7 +235,7 @@ int runBenchSegments(const BenchSegmentsOptions& o) {
   return 0;
 }
 
-const BenchRegistrar registrar(
+const BenchRegistrar bench_segmentsRegistrar(
     "segments", "Table 2: segment CCD, uniform walk vs octree, exact vs bisection", [](CLI::App& sub) {
       auto o = std::make_shared<BenchSegmentsOptions>();
       sub.add_flag("--quick", o->quick, "64^3 and 128^3, 1e5 segments (seconds)");

@@ -384,7 +384,7 @@ int runBenchTree(const BenchTreeOptions& o) {
   return 0;
 }
 
-const BenchRegistrar registrar("tree", "Table 3: rigid CCD, point by point vs the point tree", [](CLI::App& cmd) {
+const BenchRegistrar bench_treeRegistrar("tree", "Table 3: rigid CCD, point by point vs the point tree", [](CLI::App& cmd) {
   auto o = std::make_shared<BenchTreeOptions>();
   cmd.add_flag("--quick", o->quick, "Seconds-long run: 64^3 fields, 100 configurations, a 20,000-point dragon");
   cmd.add_option("--out", o->csv, "CSV output (model,points,configs,linear_s,tree_s,speedup); empty: none");

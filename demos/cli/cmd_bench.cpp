@@ -26,7 +26,7 @@ std::string machineDescription() {
 
 namespace {
 
-const CommandRegistrar registrar("bench", [](CLI::App& app) {
+const CommandRegistrar cmd_benchRegistrar("bench", [](CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Run a benchmark (prints the paper's figures beside ours)");
   bench->require_subcommand(1);
   auto runners = std::make_shared<std::map<CLI::App*, std::function<int()>>>();

@@ -91,7 +91,7 @@ int runBuildSdf(const BuildSdfOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("build-sdf", [](CLI::App& app) {
+const CommandRegistrar cmd_build_sdfRegistrar("build-sdf", [](CLI::App& app) {
   auto o = std::make_shared<BuildSdfOptions>();
   CLI::App* cmd = app.add_subcommand("build-sdf", "Build the exact signed distance field of a mesh");
   cmd->add_option("mesh", o->mesh, "Input mesh (OBJ, OFF, PLY, STL, glTF, ... through assimp)")->required();

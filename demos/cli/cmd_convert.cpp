@@ -26,7 +26,7 @@ int runConvert(const ConvertOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("convert", [](CLI::App& app) {
+const CommandRegistrar cmd_convertRegistrar("convert", [](CLI::App& app) {
   auto o = std::make_shared<ConvertOptions>();
   CLI::App* cmd = app.add_subcommand("convert", "Convert a field between the native and SDFGen formats");
   cmd->add_option("input", o->input, "Input field (format detected by content)")->required();

@@ -71,7 +71,7 @@ int runHaptics(const HapticsOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("haptics", [](CLI::App& app) {
+const CommandRegistrar cmd_hapticsRegistrar("haptics", [](CLI::App& app) {
   auto o = std::make_shared<HapticsOptions>();
   CLI::App* cmd = app.add_subcommand("haptics", "Scripted headless 6-DoF haptics session (emulated 1 kHz device)");
   cmd->add_option("scene", o->scene, "Haptic scene file (assets/scenes/haptics/*.json)")->required();

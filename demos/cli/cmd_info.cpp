@@ -26,7 +26,7 @@ int runInfo(const std::string& path) {
   return 0;
 }
 
-const CommandRegistrar registrar("info", [](CLI::App& app) {
+const CommandRegistrar cmd_infoRegistrar("info", [](CLI::App& app) {
   auto path = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("info", "Describe a signed distance field file (native or SDFGen)");
   cmd->add_option("field", *path, "Field file")->required();

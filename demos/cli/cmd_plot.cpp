@@ -38,7 +38,7 @@ int runPlot(const PlotOptions& options) {
   return 0;
 }
 
-const CommandRegistrar registrar("plot", [](CLI::App& app) {
+const CommandRegistrar cmd_plotRegistrar("plot", [](CLI::App& app) {
   auto options = std::make_shared<PlotOptions>();
   CLI::App* cmd = app.add_subcommand("plot", "Plot a saved run: penetration, kinetic energy, contacts, CCD time");
   cmd->add_option("run_dir", options->runDir, "Run folder written by `sdfccd simulate --out`")->required();

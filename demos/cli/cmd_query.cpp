@@ -60,7 +60,7 @@ int runQuery(const QueryOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("query", [](CLI::App& app) {
+const CommandRegistrar cmd_queryRegistrar("query", [](CLI::App& app) {
   auto o = std::make_shared<QueryOptions>();
   CLI::App* cmd = app.add_subcommand("query", "Continuous collision of segments with a field's level set (CSV out)");
   cmd->add_option("field", o->field, "Field file (native or SDFGen text)")->required();

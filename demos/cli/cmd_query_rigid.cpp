@@ -156,7 +156,7 @@ int runQueryRigid(const QueryRigidOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("query-rigid", [](CLI::App& app) {
+const CommandRegistrar cmd_query_rigidRegistrar("query-rigid", [](CLI::App& app) {
   auto o = std::make_shared<QueryRigidOptions>();
   CLI::App* cmd =
       app.add_subcommand("query-rigid", "Continuous collision of a rigidly moving point shell with a field (CSV out)");

@@ -202,7 +202,7 @@ int runRender(const RenderOptions&) {
 
 #endif
 
-const CommandRegistrar registrar("render", [](CLI::App& app) {
+const CommandRegistrar cmd_renderRegistrar("render", [](CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a saved run's frames, contact sheet and MP4 (no re-simulation)");
   cmd->add_option("run_dir", options->runDir, "Run folder written by `sdfccd simulate --out`")->required();

@@ -265,7 +265,7 @@ int runReport(const ReportOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("report", [](CLI::App& app) {
+const CommandRegistrar cmd_reportRegistrar("report", [](CLI::App& app) {
   auto o = std::make_shared<ReportOptions>();
   CLI::App* cmd = app.add_subcommand(
       "report", "Run the experiments and write DIR/report.md (tables beside the paper's figures, PNG plots)");

@@ -63,7 +63,7 @@ int runSample(const SampleOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("sample", [](CLI::App& app) {
+const CommandRegistrar cmd_sampleRegistrar("sample", [](CLI::App& app) {
   auto o = std::make_shared<SampleOptions>();
   CLI::App* cmd = app.add_subcommand("sample", "Make a point shell (points + outward normals) of a mesh");
   cmd->add_option("mesh", o->mesh, "Input mesh (OBJ, OFF, PLY, STL, ... through assimp)")->required();

@@ -271,7 +271,7 @@ int runSimulate(const SimulateOptions& o) {
   return 0;
 }
 
-const CommandRegistrar registrar("simulate", [](CLI::App& app) {
+const CommandRegistrar cmd_simulateRegistrar("simulate", [](CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scene (assets/scenes/*.json) headless in Bullet");
   cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();

@@ -52,7 +52,7 @@ std::string lowerCase(std::string text) {
   return text;
 }
 
-std::string trim(const std::string& text) {
+std::string trimmedField(const std::string& text) {
   std::size_t begin = 0;
   std::size_t end = text.size();
   while (begin < end && std::isspace(static_cast<unsigned char>(text[begin]))) ++begin;
@@ -218,7 +218,7 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
   std::vector<std::string> header;
   int recordLine = 0;  // the last line read
   while (readCsvRecord(in, line, recordLine)) {
-    if (!trim(line).empty() && line[0] != '#') {
+    if (!trimmedField(line).empty() && line[0] != '#') {
       header = splitCsvRecord(line);  // quoted: body names may hold commas (csv_fields.h)
       break;
     }
@@ -345,7 +345,7 @@ RunFrames readRunFrames(const std::string& csvPath, const RunScene& scene) {
   double lastKey = std::numeric_limits<double>::quiet_NaN();
   while (readCsvRecord(in, line, recordLine)) {
     const int lineNumber = recordLine;
-    if (trim(line).empty() || line[0] == '#') continue;
+    if (trimmedField(line).empty() || line[0] == '#') continue;
     const std::vector<std::string> row = splitCsvRecord(line);
     if (row.size() != header.size()) {
       throw Error("frames '" + csvPath + "' line " + std::to_string(lineNumber) + " has " + std::to_string(row.size()) +

@@ -203,7 +203,7 @@ ReportSection runEffectsSection(const ReportContext& context) {
   return {md.str(), ok};
 }
 
-const ReportRegistrar registrar(60, "effects", "Effects: what a scene does not ask for costs nothing",
+const ReportRegistrar bullet_effectsRegistrar(60, "effects", "Effects: what a scene does not ask for costs nothing",
                                 runEffectsSection);
 
 }  // namespace

@@ -23,15 +23,14 @@
 #include "bench/bullet_stability_search.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
+#include "report/paper_figures.h"
 #include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
 
-constexpr double kPaperTimestepRatio = 3.0;  // Fig. 10a
-
 /// One model under one force timing, with its 1-DOF characteristic polynomial z^2 + b(h) z + c(h).
-struct Variant {
+struct ProtocolVariant {
   const char* name;
   PenaltyModel model;
   ForceTiming timing;
@@ -43,7 +42,7 @@ struct Variant {
   double hLimit;      // the bound (infinity: always stable; 0: never)
 };
 
-const Variant kVariants[] = {
+const ProtocolVariant kProtocolVariants[] = {
     {"continuous, next step (paper)", PenaltyModel::Continuous, ForceTiming::NextStep, 0.0,
      "z^2 + (h^2/2 - 2) z + (1 + h^2/2)", [](double h2) { return h2 / 2 - 2; }, [](double h2) { return 1 + h2 / 2; },
      "never (abs(z)^2 = 1 + h^2/2)", 0.0},
@@ -59,7 +58,7 @@ const Variant kVariants[] = {
 constexpr int kCalibration = 3;  // the variant whose measured limit calibrates omega
 
 /// The larger root modulus of z^2 + b z + c: the 1-DOF amplification per step.
-double amplification(const Variant& v, double h) {
+double amplification(const ProtocolVariant& v, double h) {
   const double h2 = h * h;
   const double b = v.b(h2), c = v.c(h2);
   const std::complex<double> root = std::sqrt(std::complex<double>(b * b - 4 * c, 0.0));
@@ -109,7 +108,7 @@ ReportSection runProtocol(const ReportContext& ctx) {
   const double total = double(trials.size() * timesteps.size());
   double done = 0.0;
   for (int v = 0; v < variantCount + dampedCount; ++v) {
-    const Variant& variant = kVariants[v < variantCount ? v : v - variantCount];
+    const ProtocolVariant& variant = kProtocolVariants[v < variantCount ? v : v - variantCount];
     Scene s = scene;
     if (v >= variantCount) s.contact.damping = strongDamping;
     StabilityTrialSettings settings = base;
@@ -122,8 +121,9 @@ ReportSection runProtocol(const ReportContext& ctx) {
     }
   }
   auto variantName = [&](int v) {
-    return v < variantCount ? std::string(kVariants[v].name)
-                            : std::string(kVariants[v - variantCount].name) + fmt(", damping %.0f", strongDamping);
+    return v < variantCount
+               ? std::string(kProtocolVariants[v].name)
+               : std::string(kProtocolVariants[v - variantCount].name) + fmt(", damping %.0f", strongDamping);
   };
   {
     OutputFile csv(ctx.outDir / "protocol_trials.csv");
@@ -143,7 +143,7 @@ ReportSection runProtocol(const ReportContext& ctx) {
   // inside the grid (else its limit is unknown). The limit lies between the last stable and the first unstable dt;
   // the last stable one is taken, so omega is an upper estimate.
   const bool calibrated = largest[kCalibration] > 0 && largest[kCalibration] < timesteps.back();
-  const double omega = calibrated ? kVariants[kCalibration].hLimit / largest[kCalibration] : NAN;
+  const double omega = calibrated ? kProtocolVariants[kCalibration].hLimit / largest[kCalibration] : NAN;
 
   std::string md = "## Fig. 10a under the paper's protocol beside ours (force timing)\n\n";
   md +=
@@ -170,7 +170,7 @@ ReportSection runProtocol(const ReportContext& ctx) {
   MarkdownTable limits({"model, timing", "1-DOF characteristic polynomial", "1-DOF stable for", "predicted dt limit",
                         "measured largest stable dt"});
   for (int v = 0; v < variantCount; ++v) {
-    const Variant& variant = kVariants[v];
+    const ProtocolVariant& variant = kProtocolVariants[v];
     std::string predicted = "n/a";
     if (std::isfinite(omega)) {
       predicted = variant.hLimit > 0 ? fmt("%.2f ms", 1e3 * variant.hLimit / omega) : std::string("none");
@@ -188,13 +188,15 @@ ReportSection runProtocol(const ReportContext& ctx) {
                                   "discrete model with our timing did not fail inside the grid):\n\n")) +
         limits.str() + "\n";
 
-  MarkdownTable amp({"dt (ms)", "h", kVariants[0].name, kVariants[1].name, kVariants[2].name, kVariants[3].name});
+  MarkdownTable amp({"dt (ms)", "h", kProtocolVariants[0].name, kProtocolVariants[1].name, kProtocolVariants[2].name,
+                     kProtocolVariants[3].name});
   if (std::isfinite(omega)) {
     for (const double dt : timesteps) {
       const double h = omega * dt;
-      amp.addRow({fmt("%g", 1e3 * dt), fmt("%.2f", h), fmt("%.3f", amplification(kVariants[0], h)),
-                  fmt("%.3f", amplification(kVariants[1], h)), fmt("%.3f", amplification(kVariants[2], h)),
-                  fmt("%.3f", amplification(kVariants[3], h))});
+      amp.addRow({fmt("%g", 1e3 * dt), fmt("%.2f", h), fmt("%.3f", amplification(kProtocolVariants[0], h)),
+                  fmt("%.3f", amplification(kProtocolVariants[1], h)),
+                  fmt("%.3f", amplification(kProtocolVariants[2], h)),
+                  fmt("%.3f", amplification(kProtocolVariants[3], h))});
     }
     md +=
         "**1-DOF amplification per step |z|** at the same h (> 1: energy grows; the unilateral contact clips "
@@ -226,7 +228,8 @@ ReportSection runProtocol(const ReportContext& ctx) {
   return section;
 }
 
-const ReportRegistrar registrar(31, "protocol", "Fig. 10a under the paper's protocol beside ours", runProtocol);
+const ReportRegistrar bullet_fig10a_protocolRegistrar(31, "protocol", "Fig. 10a under the paper's protocol beside ours",
+                                                      runProtocol);
 
 }  // namespace
 }  // namespace sdfccd::cli

@@ -16,12 +16,12 @@
 #include "cli/line_plot.h"
 #include "cli/markdown_table.h"
 #include "cli/report_registry.h"
+#include "report/paper_figures.h"
 #include "sdfccd/output_file.h"
 
 namespace sdfccd::cli {
 namespace {
 
-constexpr double kPaperTimestepRatio = 3.0;      // Fig. 10a
 constexpr double kPaperStiffnessRatio = 2.5;     // Fig. 10b
 constexpr double kPaperPenetrationRatio = 2.75;  // Section 5, Discussions
 
@@ -180,7 +180,8 @@ ReportSection runStability(const ReportContext& ctx) {
   return section;
 }
 
-const ReportRegistrar registrar(30, "stability", "Stability: largest stable timestep and stiffness", runStability);
+const ReportRegistrar bullet_stabilityRegistrar(30, "stability", "Stability: largest stable timestep and stiffness",
+                                                runStability);
 
 }  // namespace
 }  // namespace sdfccd::cli

@@ -211,7 +211,7 @@ ReportSection runHaptics(const ReportContext& ctx) {
   return section;
 }
 
-const ReportRegistrar registrar(50, "haptics", "Haptics: penalty vs constraint", runHaptics);
+const ReportRegistrar haptics_comparisonRegistrar(50, "haptics", "Haptics: penalty vs constraint", runHaptics);
 
 }  // namespace
 }  // namespace sdfccd::cli

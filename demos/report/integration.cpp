@@ -403,7 +403,7 @@ ReportSection runIntegrationSection(const ReportContext& context) {
   return {md.str(), ok};
 }
 
-const ReportRegistrar registrar(40, "integration", "Penalty integration: midpoint subintervals", runIntegrationSection);
+const ReportRegistrar integrationRegistrar(40, "integration", "Penalty integration: midpoint subintervals", runIntegrationSection);
 
 }  // namespace
 }  // namespace sdfccd::cli

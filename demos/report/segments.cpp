@@ -310,7 +310,7 @@ ReportSection runSegmentsSection(const ReportContext& context) {
   return {md.str(), ok};
 }
 
-const ReportRegistrar registrar(10, "segments", "Segment query: accuracy vs time", runSegmentsSection);
+const ReportRegistrar segmentsRegistrar(10, "segments", "Segment query: accuracy vs time", runSegmentsSection);
 
 }  // namespace
 }  // namespace sdfccd::cli

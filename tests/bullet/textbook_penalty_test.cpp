@@ -25,7 +25,6 @@ namespace {
 
 constexpr double kG = 9.81;     // m/s^2
 constexpr double kHalf = 0.05;  // m, half size of the test boxes
-constexpr double kPi = 3.14159265358979323846;
 
 /// One body of a test scene, as JSON.
 std::string boxBody(const std::string& name, const Vec3& position, double mass = 1.0, double half = kHalf,

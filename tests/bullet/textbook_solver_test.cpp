@@ -29,7 +29,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kG = 9.81;
 constexpr double kStep = 1.0 / 240.0;
 constexpr double kHalf = 0.05;  // 10 cm boxes

@@ -13,7 +13,7 @@ value() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.ar
 box_scene() {
   cat > "$work/scene.json" <<JSON
 { "timestep": 0.001, "frames": ${4:-300}, "effects": ["gravity", "ground", "damping", "friction"] $3,
-  "contact": { $1 },
+  "contact": { "mode": "penalty"${1:+, $1} },
   "bodies": [ { "name": "box", "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] },
                 "position": [0, 0.05, 0], "mass": ${5:-1.0}, "points": 0, "resolution": 12 $2 } ] }
 JSON

@@ -6,6 +6,7 @@
 /// Voronoi-region walk, so the two check each other.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -102,7 +103,8 @@ inline TriangleMesh icosphereMesh(double r, int levels) {
   return m;
 }
 
-/// Reads a plain OFF file (the test suites of the core cannot use assimp).
+/// Reads a plain OFF file (the test suites of the core cannot use assimp): triangles, and convex polygons
+/// fanned from their first vertex. No repair; a bad header, face or index throws.
 inline TriangleMesh readOff(const std::string& path) {
   std::ifstream in(path);
   std::string magic;
@@ -114,10 +116,15 @@ inline TriangleMesh readOff(const std::string& path) {
   m.vertices.resize(nv);
   for (auto& v : m.vertices) in >> v.x() >> v.y() >> v.z();
   for (std::size_t f = 0; f < nf; ++f) {
-    int k = 0, a = 0, b = 0, c = 0;
-    in >> k >> a >> b >> c;
-    if (k != 3) throw Error("non-triangle face in " + path);
-    m.triangles.push_back({a, b, c});
+    int k = 0;
+    in >> k;
+    if (k < 3) throw Error("face with fewer than 3 vertices in " + path);
+    std::vector<int> idx(static_cast<std::size_t>(k));
+    for (int& i : idx) {
+      in >> i;
+      if (i < 0 || static_cast<std::size_t>(i) >= nv) throw Error("vertex index out of range in " + path);
+    }
+    for (int j = 1; j + 1 < k; ++j) m.triangles.push_back({idx[0], idx[j], idx[j + 1]});
   }
   if (!in) throw Error("truncated OFF: " + path);
   return m;

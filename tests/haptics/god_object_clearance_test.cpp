@@ -7,19 +7,16 @@
 
 #include <string>
 
+#include "haptics/haptic_test_scenes.h"
 #include "sdfccd/haptics/god_object.h"
 #include "sdfccd/haptics/haptic_scene.h"
 
 namespace sdfccd::haptics {
 namespace {
 
-std::string scenePath(const std::string& name) {
-  return std::string(SDFCCD_ASSETS_DIR) + "/scenes/haptics/" + name;
-}
-
 // Drives two god-objects (cache on / off) with the scripted target directly (no device), and compares them.
 void expectCacheChangesNothing(const std::string& sceneFile, double seconds) {
-  const HapticScene scene = loadHapticScene(scenePath(sceneFile));
+  const HapticScene scene = loadHapticScene(test::scenePath(sceneFile));
   GodObjectSettings on = scene.god;
   on.clearanceCache = true;
   GodObjectSettings off = scene.god;

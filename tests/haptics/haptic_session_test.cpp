@@ -11,14 +11,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "haptics/haptic_test_scenes.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd::haptics {
 namespace {
-
-std::string scenePath(const std::string& name) {
-  return std::string(SDFCCD_ASSETS_DIR) + "/scenes/haptics/" + name;
-}
 
 HapticSessionSummary run(const HapticScene& scene, HapticMethod method) {
   HapticSessionSettings s;
@@ -34,7 +31,7 @@ struct ConstraintAndPenalty {
 
 // The scene `name` run with the constraint method, then with the penalty method.
 ConstraintAndPenalty runConstraintAndPenalty(const std::string& name) {
-  const HapticScene scene = loadHapticScene(scenePath(name));
+  const HapticScene scene = loadHapticScene(test::scenePath(name));
   return {run(scene, HapticMethod::Constraint), run(scene, HapticMethod::Penalty)};
 }
 
@@ -58,7 +55,7 @@ TEST(HapticSession, ShrunkHoleStopsTheConstraintMethodButNotPenalty) {
 }
 
 TEST(HapticSession, FastPushOntoAThinWire) {
-  const HapticScene scene = loadHapticScene(scenePath("thin-wire.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("thin-wire.json"));
   const HapticSessionSummary constraint = run(scene, HapticMethod::Constraint);
   EXPECT_EQ(constraint.maxPenetrationCells, 0.0);
   EXPECT_FALSE(constraint.tunneled);
@@ -70,7 +67,7 @@ TEST(HapticSession, FastPushOntoAThinWire) {
 }
 
 TEST(HapticSession, BoxSlidesOnAPlane) {
-  const HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("plane-slide.json"));
   ASSERT_TRUE(scene.plane.has_value());
   const HapticSessionSummary constraint = run(scene, HapticMethod::Constraint);
   EXPECT_TRUE(constraint.inserted);  // reached x >= 29 mm
@@ -80,7 +77,7 @@ TEST(HapticSession, BoxSlidesOnAPlane) {
 }
 
 TEST(HapticSession, Fig13PocketReportsStuckNeverNaN) {
-  const HapticScene scene = loadHapticScene(scenePath("fig13-narrow-passage.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("fig13-narrow-passage.json"));
   HapticSessionSettings s;
   s.method = HapticMethod::Constraint;
   const HapticSessionResult r = runHapticSession(scene, s);
@@ -99,7 +96,7 @@ TEST(HapticSession, Fig13PocketReportsStuckNeverNaN) {
 }
 
 TEST(HapticSession, VirtualTimeIsDeterministic) {
-  const HapticScene scene = loadHapticScene(scenePath("thin-wire.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("thin-wire.json"));
   HapticSessionSettings s;
   s.method = HapticMethod::Constraint;
   s.seconds = 0.1;
@@ -113,7 +110,7 @@ TEST(HapticSession, VirtualTimeIsDeterministic) {
 }
 
 TEST(HapticSession, RealTimeTwoLoopsRun) {
-  const HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("plane-slide.json"));
   for (HapticMethod method : {HapticMethod::Constraint, HapticMethod::Penalty}) {
     HapticSessionSettings s;
     s.method = method;
@@ -132,7 +129,7 @@ TEST(HapticSession, RealTimeTwoLoopsRun) {
 }
 
 TEST(HapticSession, WritesTickCsvAndSummaryJson) {
-  const HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("plane-slide.json"));
   HapticSessionSettings s;
   s.seconds = 0.01;
   const HapticSessionResult r = runHapticSession(scene, s);

@@ -15,7 +15,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Area of the regular polygon of `segments` sides inscribed in the circle of radius r.
 double polygonArea(double r, int segments) {

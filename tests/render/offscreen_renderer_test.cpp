@@ -15,7 +15,6 @@
 namespace sdfccd::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Saved next to the test binary for looking at by eye (not part of any assertion).
 void keepForInspection(const RgbImage& image, const std::string& name) {

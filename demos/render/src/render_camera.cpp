@@ -11,7 +11,6 @@ namespace sdfccd::render {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double degreesToRadians(double degrees) {
   return degrees * kPi / 180.0;

@@ -51,7 +51,6 @@ TriangleMesh makeSweptTube(const std::vector<Vec3>& curve, double radius, int se
     if (i > 0 && !((curve[static_cast<std::size_t>(i)] - curve[static_cast<std::size_t>(i - 1)]).norm() > 0.0))
       throw Error("makeSweptTube: two consecutive curve samples coincide");
   }
-  constexpr double kPi = 3.14159265358979323846;
   const auto sample = [&](int i) -> const Vec3& { return curve[static_cast<std::size_t>(i)]; };
 
   // Unit tangents: central differences inside, one-sided at the ends.

@@ -40,7 +40,7 @@ void expectSame(const SdfGrid& a, const SdfGrid& b) {
 }
 
 // Independent FNV-1a 64 (from its published definition) to forge files with valid checksums.
-std::uint64_t fnv1a(const std::string& bytes) {
+std::uint64_t referenceFnv1a(const std::string& bytes) {
   std::uint64_t h = 14695981039346656037ull;
   for (unsigned char c : bytes) {
     h ^= c;
@@ -58,7 +58,7 @@ void putDouble(std::string& s, std::size_t at, double d) {
 }
 // Recomputes the trailing checksum after editing a native file.
 void reseal(std::string& s) {
-  putLe(s, s.size() - 8, fnv1a(s.substr(0, s.size() - 8)), 8);
+  putLe(s, s.size() - 8, referenceFnv1a(s.substr(0, s.size() - 8)), 8);
 }
 
 void expectRejected(const std::string& bytes, const std::string& what) {
@@ -91,7 +91,7 @@ TEST(SdfFile, NativeRoundTripIsExactAndLittleEndian) {
   std::uint64_t stored = 0;
   for (int b = 0; b < 8; ++b)
     stored |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[bytes.size() - 8 + b])) << (8 * b);
-  EXPECT_EQ(stored, fnv1a(bytes.substr(0, bytes.size() - 8)));
+  EXPECT_EQ(stored, referenceFnv1a(bytes.substr(0, bytes.size() - 8)));
   expectSame(parseSdf(bytes, "mem"), grid);
 }
 

@@ -12,7 +12,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(ProceduralMeshes, BoxIsClosedOutwardWithExactVolume) {
   const TriangleMesh box = makeBox(Vec3(1.0, 2.0, 0.5));

@@ -13,7 +13,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(ContactMaterial, DampingRatioFromRestitutionMatchesTheClosedForm) {
   EXPECT_EQ(dampingRatioFromRestitution(0.0), 1.0);  // stated: critical

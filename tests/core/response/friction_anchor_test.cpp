@@ -15,7 +15,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kGravity = 9.81;  // m/s^2
 const Vec3 kUp = Vec3::UnitZ();
 

@@ -15,7 +15,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void expectAreasSumTo(const PointShell& shell, double expected) {
   ASSERT_TRUE(shell.hasAreas());

@@ -11,6 +11,9 @@
 
 namespace sdfccd {
 
+/// pi to double precision (C++17 has no std::numbers).
+inline constexpr double kPi = 3.14159265358979323846;
+
 using Vec3 = Eigen::Vector3d;
 using Vec3i = Eigen::Vector3i;
 using Mat3 = Eigen::Matrix3d;

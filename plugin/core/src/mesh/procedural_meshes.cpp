@@ -14,7 +14,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Signed volume by the divergence theorem; computed here so that the generators do not depend on the mesh
 // module's translation unit.

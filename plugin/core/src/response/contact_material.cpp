@@ -12,7 +12,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void requireRange(double value, double lo, double hi, const char* name) {
   if (!(value >= lo && value <= hi)) {

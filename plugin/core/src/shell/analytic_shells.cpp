@@ -12,7 +12,6 @@
 namespace sdfccd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const double kGoldenAngle = kPi * (3.0 - std::sqrt(5.0));  // Fibonacci spiral step (rad)
 
 void checkSettings(const AnalyticShellSettings& settings, const char* what) {
