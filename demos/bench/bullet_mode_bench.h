@@ -33,7 +33,7 @@ inline constexpr const char* kModeStabilityCriterion =
 struct ModeBenchOptions {
   bool quick = false;
   std::string scenes = "assets/scenes";
-  std::string cache = "out/cache";
+  std::string cache;                 ///< the model cache folder (bench bullet's --cache); "": none
   double gimpactSeconds = 0.4;       ///< simulated time of the GImpact world (its steps cost seconds)
   double maxPenetrationCells = 8.0;  ///< the criterion's penetration bound: half a bunny's thickness at 128^3
   double timingSeconds = 1.0;        ///< simulated time of the timing runs (--quick: less)
