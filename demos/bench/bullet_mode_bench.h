@@ -26,7 +26,8 @@ namespace sdfccd::cli {
 /// probe's interval in ms).
 inline constexpr const char* kModeStabilityCriterion =
     "stable = over the whole run no body state becomes NaN or infinite, the total energy (kinetic + "
-    "gravitational potential of the dynamic bodies) never rises more than 5%% + 0.5 J above its start, no body "
+    "gravitational potential of the dynamic bodies) never rises more than 5%% + 0.5 J above its start, the runaway "
+    "guard (the scene's \"guard\" bounds, in report mode) never fires, no body "
     "tunnels (centre of mass below the ground or inside another body), and no mesh vertex is ever deeper than "
     "%g field cells in the ground or in another body (sampled every %g ms of simulated time)";
 
