@@ -116,6 +116,9 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
                     s.method.c_str(), n, s.simCycleP50Ms, s.simCycleP99Ms, s.simCycleMaxMs, s.simCycleCpuP50Ms,
                     s.simCycleCpuP99Ms, s.maxContacts, s.meanContacts,
                     s.hasInsertCheck ? (s.inserted ? "yes" : "no") : "-", s.maxPenetrationCells);
+        if (!s.runaway.empty()) {  // a stopped session's timings cover only the ticks before the runaway
+          std::printf("  runaway (%s): %s\n", s.guardStopped ? "session stopped" : "reported", s.runaway.c_str());
+        }
         std::fflush(stdout);
         rows.push_back({sceneName, n, s, loadAverage()});
       }
