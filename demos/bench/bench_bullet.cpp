@@ -36,7 +36,9 @@
 
 #include "bench/bullet_mode_bench.h"
 #include "bench/bullet_stability_search.h"
+#include "bench/cache_option.h"
 #include "bench/gimpact_peer.h"
+#include "bench/option_checks.h"
 #include "bench/penetration_probe.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/bullet/scene_world.h"
@@ -51,7 +53,7 @@ struct BenchBulletOptions {
   bool quick = false;
   std::string csv = "bench_bullet.csv";
   std::string scenes = "assets/scenes";
-  std::string cache = "out/cache";
+  std::string cache;  // resolved by resolveCacheOption before the run
   std::string part = "all";
   std::string forceTiming = "same_step";
   int peerEvery = 1;       // penetration measured every n-th frame in the peer comparison
@@ -322,30 +324,33 @@ int runBenchBullet(BenchBulletOptions o) {
   return 0;
 }
 
-const BenchRegistrar bench_bulletRegistrar("bullet",
-                               "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer, "
-                               "the contact modes beside Bullet's shapes and their largest stable steps",
-                               [](CLI::App& sub) {
-                                 auto o = std::make_shared<BenchBulletOptions>();
-                                 sub.add_flag("--quick", o->quick, "A quarter of the frames, fewer timesteps");
-                                 sub.add_option("--out", o->csv, "CSV output (default bench_bullet.csv; empty: none)");
-                                 sub.add_option("--scenes", o->scenes, "Scene folder (default assets/scenes)");
-                                 sub.add_option("--cache", o->cache, "Body model cache (default out/cache)");
-                                 sub.add_option("--part", o->part, "all, table4, fig10a, peer, modes or stable");
-                                 sub.add_option("--mode-seconds", o->modes.timingSeconds,
-                                                "Modes: simulated seconds per world (default 1; --quick 0.3)");
-                                 sub.add_option("--gimpact-seconds", o->modes.gimpactSeconds,
-                                                "Modes: simulated seconds of the GImpact world (default 0.4)");
-                                 sub.add_option("--max-penetration-cells", o->modes.maxPenetrationCells,
-                                                "Stable: the criterion's penetration bound in cells (default 8)");
-                                 sub.add_option("--peer-every", o->peerEvery,
-                                                "Peer: measure penetration every n-th frame (default 1)");
-                                 sub.add_option("--peer-frames", o->peerFrames,
-                                                "Peer: frames to run (default 400, halved by --quick; 0: the scene's)");
-                                 sub.add_option("--force-timing", o->forceTiming,
-                                                "Fig. 10a force timing: same_step (default) or next_step (the paper)");
-                                 return std::function<int()>([o]() { return runBenchBullet(*o); });
-                               });
+const BenchRegistrar bench_bulletRegistrar(
+    "bullet",
+    "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer, "
+    "the contact modes beside Bullet's shapes and their largest stable steps",
+    [](CLI::App& sub) {
+      auto o = std::make_shared<BenchBulletOptions>();
+      sub.add_flag("--quick", o->quick, "A quarter of the frames, fewer timesteps");
+      sub.add_option("--out", o->csv, "CSV output (default bench_bullet.csv; empty: none)");
+      sub.add_option("--scenes", o->scenes, "Scene folder (default assets/scenes)")->check(nonEmpty());
+      const CLI::Option* cache = addCacheOption(sub, o->cache, "Body model cache");
+      sub.add_option("--part", o->part, "all, table4, fig10a, peer, modes or stable");
+      sub.add_option("--mode-seconds", o->modes.timingSeconds,
+                     "Modes: simulated seconds per world (default 1; --quick 0.3)");
+      sub.add_option("--gimpact-seconds", o->modes.gimpactSeconds,
+                     "Modes: simulated seconds of the GImpact world (default 0.4)");
+      sub.add_option("--max-penetration-cells", o->modes.maxPenetrationCells,
+                     "Stable: the criterion's penetration bound in cells (default 8)");
+      sub.add_option("--peer-every", o->peerEvery, "Peer: measure penetration every n-th frame (default 1)");
+      sub.add_option("--peer-frames", o->peerFrames,
+                     "Peer: frames to run (default 400, halved by --quick; 0: the scene's)");
+      sub.add_option("--force-timing", o->forceTiming,
+                     "Fig. 10a force timing: same_step (default) or next_step (the paper)");
+      return std::function<int()>([o, cache]() {
+        o->cache = resolveCacheOption(cache, o->cache);
+        return runBenchBullet(*o);
+      });
+    });
 
 }  // namespace
 }  // namespace sdfccd::cli

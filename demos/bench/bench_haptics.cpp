@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/cache_option.h"
+#include "bench/option_checks.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
@@ -34,7 +36,7 @@ struct BenchHapticsOptions {
   bool quick = false;
   std::string csv = "bench_haptics.csv";
   std::string assets = SDFCCD_ASSETS_DIR_CLI;
-  std::string cache = "out/cache";
+  std::string cache;   // resolved by resolveCacheOption before the run
   std::string scenes;  // comma-separated scene names; empty: the default
   std::string points;  // comma-separated; empty: the default sweep
   std::string methods = "constraint,penalty";
@@ -114,6 +116,9 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
                     s.method.c_str(), n, s.simCycleP50Ms, s.simCycleP99Ms, s.simCycleMaxMs, s.simCycleCpuP50Ms,
                     s.simCycleCpuP99Ms, s.maxContacts, s.meanContacts,
                     s.hasInsertCheck ? (s.inserted ? "yes" : "no") : "-", s.maxPenetrationCells);
+        if (!s.runaway.empty()) {  // a stopped session's timings cover only the ticks before the runaway
+          std::printf("  runaway (%s): %s\n", s.guardStopped ? "session stopped" : "reported", s.runaway.c_str());
+        }
         std::fflush(stdout);
         rows.push_back({sceneName, n, s, loadAverage()});
       }
@@ -154,12 +159,18 @@ const BenchRegistrar bench_hapticsRegistrar(
       cmd.add_flag("--quick", o->quick, "Seconds-long run: the small alpha puzzle and the peg, 3,000 points, 1 s");
       cmd.add_option("--out", o->csv, "CSV output; empty: none");
       cmd.add_option("--assets", o->assets, "The assets folder (scenes/haptics/)");
-      cmd.add_option("--cache", o->cache, "Cache of fields built from meshes (default out/cache)");
-      cmd.add_option("--scenes", o->scenes, "Comma-separated scene names (default alpha-puzzle,peg-in-hole)");
-      cmd.add_option("--points", o->points, "Comma-separated shell point counts (default 3000,6000,12000,25000)");
-      cmd.add_option("--methods", o->methods, "Comma-separated methods (default constraint,penalty)");
-      cmd.add_option("--seconds", o->seconds, "Session length (default: the scene's)");
-      return std::function<int()>([o]() { return runBenchHaptics(*o); });
+      const CLI::Option* cache = addCacheOption(cmd, o->cache, "Cache of fields built from meshes");
+      cmd.add_option("--scenes", o->scenes, "Comma-separated scene names (default alpha-puzzle,peg-in-hole)")
+          ->check(nonEmpty());
+      cmd.add_option("--points", o->points, "Comma-separated shell point counts (default 3000,6000,12000,25000)")
+          ->check(nonEmpty());
+      cmd.add_option("--methods", o->methods, "Comma-separated methods (default constraint,penalty)")
+          ->check(nonEmpty());
+      cmd.add_option("--seconds", o->seconds, "Session length (default: the scene's)")->check(positiveUpTo(3600.0));
+      return std::function<int()>([o, cache]() {
+        o->cache = resolveCacheOption(cache, o->cache);
+        return runBenchHaptics(*o);
+      });
     });
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/option_checks.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/io/mesh_loader.h"
@@ -104,9 +105,9 @@ const BenchRegistrar bench_sdfRegistrar("sdf", "Table 1: SDF build time and memo
   auto o = std::make_shared<BenchSdfOptions>();
   sub.add_flag("--quick", o->quick, "Only 64^3 and 128^3");
   sub.add_option("--out", o->csv, "CSV output (default bench_sdf.csv; empty: none)");
-  sub.add_option("--mesh", o->mesh, "Mesh (default: assets/meshes/bunny.off)");
-  sub.add_option("--threads", o->threads, "Worker threads (0 = all)");
-  sub.add_option("--padding", o->padding, "Padding cells (default 0)");
+  sub.add_option("--mesh", o->mesh, "Mesh (default: assets/meshes/bunny.off)")->check(nonEmpty());
+  sub.add_option("--threads", o->threads, "Worker threads (0 = all)")->check(countIn(0, 1024));
+  sub.add_option("--padding", o->padding, "Padding cells (default 0)")->check(countIn(0, 1000));
   return std::function<int()>([o]() { return runBenchSdf(*o); });
 });
 

@@ -12,7 +12,7 @@
 ///    misses (exact hits, bisection does not) or misplaces (both hit, > 1% of a cell apart), on the bunny
 ///    sets and on a random field (independent random node values: several roots per cell).
 /// Bunny fields are built with buildSdf from assets/meshes/bunny.off (padding 0, as the paper's grids) and
-/// cached in out/cache/ (native format) so later runs only load them.
+/// cached in the model cache folder (--cache; native format) so later runs only load them.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,7 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "bench/cache_option.h"
 #include "bench/openvdb_peer.h"
+#include "bench/option_checks.h"
 #include "bench/segment_experiments.h"
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
@@ -43,7 +45,7 @@ struct BenchSegmentsOptions {
   std::string csv = "bench_segments.csv";
   std::string field;
   std::string mesh;
-  std::string cache = "out/cache";
+  std::string cache;       // resolved by resolveCacheOption before the run
   long long segments = 0;  // 0: 10^6 (10^5 with --quick)
   std::string method;      // only this method (empty: both)
   std::string octree;      // only this octree mode (empty: all)
@@ -240,14 +242,21 @@ const BenchRegistrar bench_segmentsRegistrar(
       auto o = std::make_shared<BenchSegmentsOptions>();
       sub.add_flag("--quick", o->quick, "64^3 and 128^3, 1e5 segments (seconds)");
       sub.add_option("--out", o->csv, "CSV output (default bench_segments.csv; empty: none)");
-      sub.add_option("--field", o->field, "Use this field file instead of the bunny builds");
-      sub.add_option("--mesh", o->mesh, "Mesh for the bunny builds (default assets/meshes/bunny.off)");
-      sub.add_option("--cache", o->cache, "Folder of cached bunny fields (default out/cache)");
-      sub.add_option("--segments", o->segments, "Segments per protocol (default 1e6; 1e5 quick)");
+      sub.add_option("--field", o->field, "Use this field file instead of the bunny builds")->check(nonEmpty());
+      sub.add_option("--mesh", o->mesh, "Mesh for the bunny builds (default assets/meshes/bunny.off)")
+          ->check(nonEmpty());
+      const CLI::Option* cache = addCacheOption(sub, o->cache, "Folder of cached bunny fields");
+      sub.add_option("--segments", o->segments, "Segments per protocol (default 1e6; 1e5 quick)")
+          ->check(countIn(1, 100000000));
       sub.add_option("--seed", o->seed, "Random seed");
-      sub.add_option("--method", o->method, "Only this method (exact or bisection)");
-      sub.add_option("--octree", o->octree, "Only this octree mode (full, leaves or off)");
-      return std::function<int()>([o]() { return runBenchSegments(*o); });
+      sub.add_option("--method", o->method, "Only this method (exact or bisection)")
+          ->check(CLI::IsMember({"exact", "bisection"}));
+      sub.add_option("--octree", o->octree, "Only this octree mode (full, leaves or off)")
+          ->check(CLI::IsMember({"full", "leaves", "off"}));
+      return std::function<int()>([o, cache]() {
+        o->cache = resolveCacheOption(cache, o->cache);
+        return runBenchSegments(*o);
+      });
     });
 
 }  // namespace

@@ -6,8 +6,8 @@
 /// 3x about its centre, orientation uniform) for the shell, CCD of every point's segment against the zero level
 /// set of the field. Models: the bunny (777 points sampled on assets/meshes/bunny.off), a lathed china bowl
 /// (2,072 points; a procedural stand-in for the paper's scanned bowl) and the dragon (437,645 points sampled
-/// on assets/meshes/dragon.off; sampled once and cached in out/cache/). Each shell's frame is centred on its
-/// mesh's box, each field is the SDF of the same mesh (buildSdf), so the shell overlaps its own model's
+/// on assets/meshes/dragon.off; sampled once and cached in the model cache folder, --cache). Each shell's frame is
+/// centred on its mesh's box, each field is the SDF of the same mesh (buildSdf), so the shell overlaps its own model's
 /// field. Single thread, exact roots, full octree, first hit at the leaves (CCD: the time of contact;
 /// --mode all-intervals for the penalty integrals' intervals) for both traversals; the tree's contacts are
 /// checked equal to the linear ones. The output also times the queries of the touching points alone: no
@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/cache_option.h"
+#include "bench/option_checks.h"
 #include "bench/random_pose.h"
 #include "cli/bench_registry.h"
 #include "cli/progress_bar.h"
@@ -52,7 +54,7 @@ struct BenchTreeOptions {
   bool quick = false;
   std::string csv = "bench_tree.csv";
   std::string assets = SDFCCD_ASSETS_DIR_CLI;
-  std::string cache = "out/cache";
+  std::string cache;   // resolved by resolveCacheOption before the run
   int resolution = 0;  // 0: 256 (full) or 64 (quick)
   int configs = 0;     // 0: 1000 (full) or 100 (quick)
   int dragonPoints = 0;
@@ -82,6 +84,7 @@ using bench::randomPose;
 // The shell of a model: sampled by repulsion, from the cache when there.
 PointShell modelShell(const std::string& name, const TriangleMesh& mesh, int points, const std::string& cacheDir,
                       bool useCache) {
+  useCache = useCache && !cacheDir.empty();  // --cache "": no cache
   const std::string cachePath = cacheDir + "/" + name + "_" + std::to_string(points) + ".ply";
   if (useCache && std::filesystem::exists(cachePath)) {
     PointShell shell = loadShell(cachePath);
@@ -389,11 +392,14 @@ const BenchRegistrar bench_treeRegistrar("tree", "Table 3: rigid CCD, point by p
   cmd.add_flag("--quick", o->quick, "Seconds-long run: 64^3 fields, 100 configurations, a 20,000-point dragon");
   cmd.add_option("--out", o->csv, "CSV output (model,points,configs,linear_s,tree_s,speedup); empty: none");
   cmd.add_option("--assets", o->assets, "The assets folder (meshes/bunny.off, meshes/dragon.off)");
-  cmd.add_option("--cache", o->cache, "Where the dragon shell is cached (default out/cache)");
-  cmd.add_option("--resolution", o->resolution, "Cells along the longest side of each field (default 256; quick 64)");
-  cmd.add_option("--configs", o->configs, "Random pose pairs per model (default 1000; quick 100)");
-  cmd.add_option("--dragon-points", o->dragonPoints, "Points of the dragon shell (default 437645; quick 20000)");
-  cmd.add_option("--models", o->models, "Comma-separated subset of bunny,bowl,dragon");
+  const CLI::Option* cache = addCacheOption(cmd, o->cache, "Where the dragon shell is cached");
+  cmd.add_option("--resolution", o->resolution, "Cells along the longest side of each field (default 256; quick 64)")
+      ->check(countIn(8, 4096));
+  cmd.add_option("--configs", o->configs, "Random pose pairs per model (default 1000; quick 100)")
+      ->check(countIn(1, 10000000));
+  cmd.add_option("--dragon-points", o->dragonPoints, "Points of the dragon shell (default 437645; quick 20000)")
+      ->check(countIn(1, 10000000));
+  cmd.add_option("--models", o->models, "Comma-separated subset of bunny,bowl,dragon")->check(nonEmpty());
   cmd.add_option("--seed", o->seed, "Seed of the poses");
   cmd.add_option("--mode", o->mode,
                  "What the leaves compute: first-hit (default: CCD = time of contact) or all-intervals");
@@ -408,7 +414,10 @@ const BenchRegistrar bench_treeRegistrar("tree", "Table 3: rigid CCD, point by p
   cmd.add_option("--cull-lipschitz", o->cullLipschitz,
                  "Gradient bound of the node test (default 0: the field's own bound, which never misses a "
                  "contact; 1: the paper's test, which can miss contacts of a steep grid)");
-  return std::function<int()>([o]() { return runBenchTree(*o); });
+  return std::function<int()>([o, cache]() {
+    o->cache = resolveCacheOption(cache, o->cache);
+    return runBenchTree(*o);
+  });
 });
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "bench/gimpact_peer.h"
 #include "bench/penetration_probe.h"
 #include "sdfccd/bullet/scene_world.h"
+#include "sdfccd/model/runaway_guard.h"
 #include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd::cli {
@@ -138,6 +139,14 @@ ContenderRun runContender(const BenchScene& b, Contender& c, double seconds, dou
   ContenderRun run;
   const double start = totalEnergy(b, c);
   const double cell = b.probe->cellSize();
+  // The runaway guard in report mode (issue 14): a violation makes the run unstable ("runaway") instead of ending the
+  // program. Velocities are the centres' finite differences over the step, so the GImpact peer is watched alike.
+  Scene guarded = b.scene;
+  if (guarded.guard.action == GuardAction::Stop) guarded.guard.action = GuardAction::Report;
+  const RunawayGuard guard(guarded, c.kinetic());
+  std::vector<GuardBodyState> states;
+  for (const Rigid& pose : c.poses()) states.push_back({pose.translation(), Vec3::Zero()});
+  bool runawaySeen = false;
   const int frames = std::max(1, int(std::lround(seconds / c.timestep)));
   const int probeEvery = std::max(1, int(std::lround(probeEverySeconds / c.timestep)));
   for (int f = 0; f < frames && run.why.empty(); ++f) {
@@ -148,6 +157,22 @@ ContenderRun runContender(const BenchScene& b, Contender& c, double seconds, dou
     if (c.nonFinite()) {
       run.why = "NaN";
       break;
+    }
+    const std::vector<Rigid> poses = c.poses();
+    for (std::size_t i = 0; i < poses.size() && i < states.size(); ++i) {
+      states[i].velocity = (poses[i].translation() - states[i].position) / c.timestep;
+      states[i].position = poses[i].translation();
+    }
+    if (!runawaySeen) {
+      if (const std::optional<std::string> runaway = guard.check((f + 1) * c.timestep, states, c.kinetic())) {
+        // Reported once; a stability run (maxCells > 0) ends as unstable, a timing run goes on.
+        std::printf("  %s: runaway: %s\n", c.name.c_str(), runaway->c_str());
+        runawaySeen = true;
+        if (maxCells > 0) {
+          run.why = "runaway";
+          break;
+        }
+      }
     }
     const double gain = totalEnergy(b, c) - start;
     run.energyGain = std::max(run.energyGain, gain);

@@ -26,14 +26,15 @@ namespace sdfccd::cli {
 /// probe's interval in ms).
 inline constexpr const char* kModeStabilityCriterion =
     "stable = over the whole run no body state becomes NaN or infinite, the total energy (kinetic + "
-    "gravitational potential of the dynamic bodies) never rises more than 5%% + 0.5 J above its start, no body "
+    "gravitational potential of the dynamic bodies) never rises more than 5%% + 0.5 J above its start, the runaway "
+    "guard (the scene's \"guard\" bounds, in report mode) never fires, no body "
     "tunnels (centre of mass below the ground or inside another body), and no mesh vertex is ever deeper than "
     "%g field cells in the ground or in another body (sampled every %g ms of simulated time)";
 
 struct ModeBenchOptions {
   bool quick = false;
   std::string scenes = "assets/scenes";
-  std::string cache = "out/cache";
+  std::string cache;                 ///< the model cache folder (bench bullet's --cache); "": none
   double gimpactSeconds = 0.4;       ///< simulated time of the GImpact world (its steps cost seconds)
   double maxPenetrationCells = 8.0;  ///< the criterion's penetration bound: half a bunny's thickness at 128^3
   double timingSeconds = 1.0;        ///< simulated time of the timing runs (--quick: less)

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "sdfccd/bullet/scene_world.h"
+#include "sdfccd/model/runaway_guard.h"
 
 namespace sdfccd::cli {
 
@@ -29,6 +30,11 @@ StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSetting
     return e;
   };
   const double start = energy();
+  // The runaway guard in report mode: a violation ends the trial as unstable instead of ending the program.
+  Scene guarded = scene;
+  if (guarded.guard.action == GuardAction::Stop) guarded.guard.action = GuardAction::Report;
+  const RunawayGuard guard(guarded, world.kineticEnergy());
+  std::vector<GuardBodyState> states(static_cast<std::size_t>(world.bodyCount()));
   const int frames = static_cast<int>(std::lround(s.duration / s.timestep));
   StabilityTrial trial;
   trial.timestep = s.timestep;
@@ -37,6 +43,15 @@ StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSetting
     world.step();
     if (world.hasNonFinite()) {
       trial.why = "NaN";
+      break;
+    }
+    for (int i = 0; i < world.bodyCount(); ++i) {
+      const SceneBodyState b = world.bodyState(i);
+      states[std::size_t(i)] = {b.position, b.linearVelocity};
+    }
+    if (const std::optional<std::string> runaway = guard.check((f + 1) * s.timestep, states, world.kineticEnergy())) {
+      trial.why = "runaway";
+      trial.runaway = *runaway;
       break;
     }
     const double gain = energy() - start;

@@ -4,7 +4,9 @@
 ///
 /// @details Shared by `sdfccd bench bullet` (Fig. 10a) and the report's `stability` section. Every trial
 /// simulates the scene from its start with the given penalty model, timestep and stiffness, without
-/// time-of-impact clamping (so only the penalty models differ). The criterion is kStabilityCriterion.
+/// time-of-impact clamping (so only the penalty models differ). The criterion is kStabilityCriterion. The runaway
+/// guard (sdfccd/model/runaway_guard.h) watches every trial in report mode (issue 14: a search must not stop at a
+/// runaway, it counts it as unstable): a scene's "guard": {"action": "stop"} becomes "report", "off" stays off.
 /// Searches walk a list of increasing values and stop at the first unstable one: "largest stable" is the
 /// last value before it (0 when even the first is unstable).
 #pragma once
@@ -21,8 +23,9 @@ namespace sdfccd::cli {
 /// What "stable" means, in one sentence (printed by the benchmark and the report).
 inline constexpr const char* kStabilityCriterion =
     "stable = over the whole run no body state becomes NaN or infinite, the total energy (kinetic + "
-    "gravitational potential of the dynamic bodies) never rises more than 5% + 0.5 J above its start, and no "
-    "body tunnels (falls through the ground)";
+    "gravitational potential of the dynamic bodies) never rises more than 5% + 0.5 J above its start, no "
+    "body tunnels (falls through the ground), and the runaway guard (the scene's \"guard\" bounds on energy, "
+    "speed and distance, in report mode) never fires";
 
 /// One simulation run of a stability search.
 struct StabilityTrialSettings {
@@ -43,7 +46,8 @@ struct StabilityTrial {
   /// Largest rise of the total energy above its start (J); an unstable run stops at the first breach, so there it
   /// is a lower bound.
   double maxEnergyGain = 0.0;
-  std::string why;  ///< "NaN", "energy gain", "tunnelled" or "" when stable
+  std::string why;      ///< "NaN", "runaway", "energy gain", "tunnelled" or "" when stable
+  std::string runaway;  ///< the runaway guard's line when why == "runaway"
 };
 
 /// Runs one trial of `scene` (see the file comment). Throws sdfccd::Error on bad settings.

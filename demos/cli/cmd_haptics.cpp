@@ -8,7 +8,8 @@
 /// --virtual-time runs the same ticks back to back, deterministically (the simulation in lockstep).
 /// Prints the summary JSON on stdout; with --out DIR also writes DIR/ticks.csv (one row per haptic tick:
 /// device pose, simulation pose, force and torque on the device, contacts, penetration, QP state) and
-/// DIR/summary.json, each atomically.
+/// DIR/summary.json, each atomically. Exit code 3 when the runaway guard stopped the session (the scene's "guard";
+/// one line on stderr naming the body; the outputs are still written, for the post-mortem).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -68,6 +69,15 @@ int runHaptics(const HapticsOptions& o) {
   }
   std::fwrite(summary.data(), 1, summary.size(), stdout);
   std::fflush(stdout);
+  if (result.summary.guardStopped) {
+    // The runaway guard (scene key "guard"): the device rendered zero force from that tick on and the loop ended.
+    std::fprintf(stderr, "haptics: runaway stopped the session (device force set to zero): %s\n",
+                 result.summary.runaway.c_str());
+    return 3;
+  }
+  if (!result.summary.runaway.empty()) {
+    std::fprintf(stderr, "haptics: runaway reported (guard action \"report\"): %s\n", result.summary.runaway.c_str());
+  }
   return 0;
 }
 

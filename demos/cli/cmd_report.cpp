@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/cache_option.h"
+#include "bench/option_checks.h"
 #include "cli/bench_registry.h"
 #include "cli/command_registry.h"
 #include "cli/progress_bar.h"
@@ -47,8 +49,8 @@ struct ReportOptions {
   std::string out;
   std::string only;
   std::string assets;
-  std::string cache = "out/cache";
-  int threads = 0;  // 0 (not given): all hardware threads
+  std::string cache;  // resolved by resolveCacheOption before the run
+  int threads = 0;    // 0 (not given): all hardware threads
   bool threadsGiven = false;
 };
 
@@ -272,13 +274,14 @@ const CommandRegistrar cmd_reportRegistrar("report", [](CLI::App& app) {
   cmd->add_flag("--quick", o->quick, "The whole report in a few minutes");
   cmd->add_flag("--smoke", o->smoke, "Tests: quick with the smallest counts")->group("");
   cmd->add_option("--out", o->out, "Output folder (report.md, report.json, CSV and PNG files)")->required();
-  cmd->add_option("--only", o->only, "Only these sections, comma-separated ids");
+  cmd->add_option("--only", o->only, "Only these sections, comma-separated ids")->check(nonEmpty());
   cmd->add_option("--assets", o->assets, "The assets folder (default ./assets, else the source tree's)");
-  cmd->add_option("--cache", o->cache, "Cache of built fields and shells (\"\" disables; default out/cache)");
+  const CLI::Option* cache = addCacheOption(*cmd, o->cache, "Cache of built fields and shells");
   CLI::Option* threads =
       cmd->add_option("--threads", o->threads, "Worker threads for the sections' parallel parts (default: all)");
-  return std::function<int()>([o, threads]() {
+  return std::function<int()>([o, threads, cache]() {
     o->threadsGiven = threads->count() > 0;
+    o->cache = resolveCacheOption(cache, o->cache);
     return runReport(*o);
   });
 });

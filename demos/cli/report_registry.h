@@ -21,7 +21,7 @@ namespace sdfccd::cli {
 struct ReportContext {
   std::filesystem::path outDir;     ///< DIR of `--out`; exists when the section runs
   std::filesystem::path assetsDir;  ///< the project's assets/ (meshes, scenes)
-  std::filesystem::path cacheDir;   ///< where expensive fields may be cached between runs (out/cache)
+  std::filesystem::path cacheDir;   ///< the model cache (--cache; default $XDG_CACHE_HOME/sdfccd); "": none
   bool quick = false;               ///< `--quick`: the whole report in a few minutes
   bool smoke = false;               ///< hidden `--smoke` (tests): quick with the smallest counts that still mean something
   int threads = 1;                  ///< worker threads a section may use (timings are one core unless stated)

@@ -84,12 +84,14 @@ LoopTimingStats DeviceEmulator::runVirtual(std::int64_t ticks, const TickHandler
   if (running()) throw Error("device: runVirtual while the real-time loop runs");
   LoopTimingStats stats;
   stats.virtualTime = true;
-  for (std::int64_t n = 0; n < ticks; ++n) {
+  m_stopRequested.store(false);
+  std::int64_t n = 0;
+  for (; n < ticks && !m_stopRequested.load(std::memory_order_relaxed); ++n) {
     const Vec6 w = handler ? handler(m_state) : Vec6::Zero();
     step(w);
   }
-  stats.ticks = ticks;
-  stats.elapsedSeconds = static_cast<double>(ticks) * timestep();
+  stats.ticks = n;
+  stats.elapsedSeconds = static_cast<double>(n) * timestep();
   stats.achievedRateHz = m_settings.rateHz;
   m_stats = stats;
   return stats;

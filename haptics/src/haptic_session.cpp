@@ -6,12 +6,16 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
+#include "sdfccd/model/runaway_guard.h"
 #include "sdfccd/output_file.h"
 #include "sdfccd/thread_cpu_time.h"
 
@@ -94,6 +98,101 @@ struct SimulationLog {
   }
 };
 
+/// The fastest the scripted target moves (m/s): the largest distance between consecutive keys over their time.
+double peakScriptSpeed(const UserScript& script) {
+  double peak = 0.0;
+  const std::vector<PoseKeyframe>& keys = script.keys();
+  for (std::size_t i = 1; i < keys.size(); ++i) {
+    const double dt = keys[i].time - keys[i - 1].time;
+    const double d = (keys[i].worldFromTarget.translation() - keys[i - 1].worldFromTarget.translation()).norm();
+    if (dt > 0.0) peak = std::max(peak, d / dt);
+  }
+  return peak;
+}
+
+/// A haptic scene as the runaway guard (sdfccd/model/runaway_guard.h) sees it: the simulated object, dynamic and at
+/// rest at its start pose, and the user's hand as a kinematic body moving at the script's peak speed, so the guard
+/// grants the object what a moving wall may give a body (twice the wall's speed). No gravity: haptic scenes have
+/// none; the device's own force limit bounds the rest.
+Scene guardScene(const HapticScene& scene) {
+  Scene g;
+  g.name = scene.name;
+  g.guard = scene.guard;
+  SceneBody object;
+  object.name = "simulated object";
+  object.mass = scene.mass;
+  object.position = scene.worldFromBodyStart.translation();
+  SceneBody hand;
+  hand.name = "hand";
+  hand.kinematic = true;
+  hand.position = object.position;
+  hand.velocity = Vec3(peakScriptSpeed(scene.script), 0.0, 0.0);
+  g.bodies = {object, hand};
+  return g;
+}
+
+/// The runaway watchdog of a session (issue 14): checks the simulated object's state on every haptic tick. On a
+/// violation with action "stop" the tick renders zero force and the loop stops; with "report" the first violation
+/// is kept and the session goes on. Used by the haptic loop's thread only.
+class SessionGuard {
+ public:
+  explicit SessionGuard(const HapticScene& scene)
+      : m_guard(guardScene(scene), 0.0),
+        m_action(scene.guard.action),
+        m_mass(scene.mass),
+        m_inertiaDiagonal(scene.inertiaDiagonal),
+        m_tick(1.0 / scene.device.rateHz),
+        m_lastPose(scene.worldFromBodyStart) {}
+
+  /// A body with velocities (the penalty renderer's object). True: stop the loop now.
+  bool observeState(double time, const RigidBodyState& state) {
+    return check(time, state.worldFromBody, state.linearVelocity, state.angularVelocity);
+  }
+
+  /// A quasi-static pose (the god-object): its velocity is the displacement since the pose last changed over the
+  /// time since then (at least one tick), so a simulation loop that lags and then catches up is not a runaway.
+  bool observePose(double time, const Rigid& pose) {
+    Vec6 velocity = Vec6::Zero();
+    if (!pose.isApprox(m_lastPose, 0.0)) {
+      velocity = poseDifference(m_lastPose, pose) / std::max(m_tick, time - m_lastChange);
+      m_lastPose = pose;
+      m_lastChange = time;
+    }
+    return check(time, pose, velocity.head<3>(), velocity.tail<3>());
+  }
+
+  bool stopped() const { return m_stopped; }
+  const std::string& violation() const { return m_violation; }  ///< the first one; "" if none
+
+ private:
+  bool check(double time, const Rigid& pose, const Vec3& velocity, const Vec3& angularVelocity) {
+    if (m_action == GuardAction::Off || !m_violation.empty()) return m_stopped;
+    GuardBodyState object{pose.translation(), velocity};
+    GuardBodyState hand;  // the kinematic body is not checked
+    double energy = 0.5 * m_mass * velocity.squaredNorm();
+    if (pose.matrix().allFinite() && angularVelocity.allFinite()) {
+      energy += 0.5 * angularVelocity.dot(worldInertia(pose, m_inertiaDiagonal) * angularVelocity);
+    } else {
+      object.position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  // reported as non-finite
+    }
+    const std::optional<std::string> v = m_guard.check(time, {object, hand}, energy);
+    if (!v) return false;
+    m_violation = *v;
+    m_stopped = m_action == GuardAction::Stop;
+    return m_stopped;
+  }
+
+  RunawayGuard m_guard;
+  GuardAction m_action;
+  double m_mass;
+  Vec3 m_inertiaDiagonal;
+  double m_tick;  ///< s
+  Rigid m_lastPose;
+  double m_lastChange = 0.0;  ///< s
+  bool m_stopped = false;
+  std::string m_violation;
+};
+
 template <class Field>
 HapticSessionResult runWithField(const HapticScene& scene, const Field& field, const HapticSessionSettings& settings) {
   const double seconds = settings.seconds > 0.0 ? settings.seconds : scene.seconds;
@@ -127,6 +226,18 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     row.qpState = sim.qpState;
     row.simCycleMs = sim.cycleMs;
     result.ticks.push_back(row);
+  };
+
+  // The end of every haptic tick: records it and returns the wrench to render, zero once the guard has stopped
+  // the session (and the loop is asked to stop after this tick).
+  SessionGuard guard(scene);
+  const auto guarded = [&](const DeviceState& state, SimulationOutput sim, bool stop) {
+    if (stop) {
+      sim.wrenchOnDevice = Vec6::Zero();
+      device.requestStop();
+    }
+    record(state, sim);
+    return sim.wrenchOnDevice;
   };
 
   const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
@@ -198,8 +309,7 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
             devicePose.publish(state.body.worldFromBody);
             SimulationOutput sim;
             simulationOutput.read(sim);
-            record(state, sim);
-            return sim.wrenchOnDevice;
+            return guarded(state, sim, guard.observePose(state.time, sim.worldFromSimulation));
           },
           ticks);
       device.wait();
@@ -210,8 +320,7 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
       timing = device.runVirtual(ticks, [&](const DeviceState& state) {
         SimulationOutput sim;
         for (int n = 0; n < settings.simCyclesPerTick; ++n) sim = cycle(state.body.worldFromBody);
-        record(state, sim);
-        return sim.wrenchOnDevice;
+        return guarded(state, sim, guard.observePose(state.time, sim.worldFromSimulation));
       });
     }
     result.summary.finalPosition = god.pose().translation();
@@ -226,8 +335,7 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     const TickHandler handler = [&](const DeviceState& state) {
       const PenaltyStepResult r = timedStep([&] { return renderer.step(state.body); });
       const SimulationOutput sim = stepOutput(r.wrenchOnDevice, renderer.state().worldFromBody, r.contactCount);
-      record(state, sim);
-      return sim.wrenchOnDevice;
+      return guarded(state, sim, guard.observeState(state.time, renderer.state()));
     };
     if (settings.realTime) {
       device.start(handler, ticks);
@@ -266,6 +374,8 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
   s.failedCycles = log.failed;
   s.blockedCycles = log.blocked;
   s.shellPoints = tree.pointCount();
+  s.runaway = guard.violation();
+  s.guardStopped = guard.stopped();
   return result;
 }
 
@@ -299,6 +409,28 @@ void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& 
   }
   file.commit();
 }
+
+namespace {
+
+/// `text` as a JSON string literal (quotes, backslashes and control characters escaped).
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned char>(c));
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
 
 std::string summaryJson(const HapticSessionSummary& s) {
   std::ostringstream o;
@@ -337,6 +469,8 @@ std::string summaryJson(const HapticSessionSummary& s) {
     << "  \"failed_cycles\": " << s.failedCycles << ",\n"
     << "  \"blocked_cycles\": " << s.blockedCycles << ",\n"
     << "  \"shell_points\": " << s.shellPoints << ",\n"
+    << "  \"guard_stopped\": " << s.guardStopped << ",\n"
+    << "  \"runaway\": " << (s.runaway.empty() ? std::string("null") : jsonString(s.runaway)) << ",\n"
     << "  \"final_position\": [" << num(s.finalPosition.x()) << ", " << num(s.finalPosition.y()) << ", "
     << num(s.finalPosition.z()) << "]\n"
     << "}\n";

@@ -63,4 +63,35 @@ echo '{"obstacle": {"mesh": {"procedural": "teapot"}}, "shell": {"shape": "box",
   > "$work/teapot.json"
 expect_error "unknown procedural mesh" haptics "$work/teapot.json" --virtual-time
 expect_error "bad seconds" haptics "$assets/scenes/haptics/plane-slide.json" --seconds -1 --virtual-time
+echo '{"obstacle": {"plane": {"normal": [0, 1, 0]}}, "shell": {"shape": "box", "halfExtents": [0.01, 0.01, 0.01],
+  "points": 50}, "start": {"position": [0, 0.02, 0]}, "script": [{"t": 0, "position": [0, 0.02, 0]}],
+  "guard": {"action": "explode"}}' > "$work/badguard.json"
+expect_error "bad guard action" haptics "$work/badguard.json" --virtual-time
+
+# The runaway guard (issue 14): the sliding box with an absurd penalty stiffness explodes within a few dozen ticks;
+# the device renders zero force, the loop stops, one stderr line names the body, exit code 3; the outputs stay.
+sed 's/"constraint": {/"penalty": {"stiffness": 1e12}, "constraint": {/' "$assets/scenes/haptics/plane-slide.json" \
+  > "$work/exploding.json"
+grep -q '"stiffness": 1e12' "$work/exploding.json" || fail "could not make the exploding scene"
+for mode in --virtual-time ""; do  # deterministic, then the real-time loop on its own thread
+  rc=0
+  "$tool" haptics "$work/exploding.json" --method penalty $mode --out "$work/runaway$mode" > "$work/out.txt" \
+    2> "$work/err.txt" || rc=$?
+  [ "$rc" -eq 3 ] || fail "runaway ($mode): expected exit 3, got $rc: $(cat "$work/err.txt")"
+  [ "$(wc -l < "$work/err.txt")" -eq 1 ] || fail "runaway ($mode): expected one stderr line: $(cat "$work/err.txt")"
+  grep -q "body 'simulated object'" "$work/err.txt" || fail "runaway ($mode): the body is not named: $(cat "$work/err.txt")"
+  grep -q '"guard_stopped": true' "$work/runaway$mode/summary.json" || fail "runaway ($mode): guard_stopped not set"
+  ticks=$(grep -o '"haptic_ticks": [0-9]*' "$work/runaway$mode/summary.json" | grep -o '[0-9]*$')
+  [ "$ticks" -lt 1600 ] || fail "runaway ($mode): the loop did not stop ($ticks ticks)"
+  # The last tick rendered zero force and torque (columns force_x .. torque_z).
+  tail -1 "$work/runaway$mode/ticks.csv" | awk -F, '{ for (i = 17; i <= 22; ++i) if ($i != 0) exit 1 }' \
+    || fail "runaway ($mode): the last tick rendered a non-zero wrench: $(tail -1 "$work/runaway$mode/ticks.csv")"
+done
+# Report instead of stop: the session runs to its end with exit 0 and one line on stderr.
+sed 's/"constraint": {/"guard": {"action": "report"}, "constraint": {/' "$work/exploding.json" > "$work/reporting.json"
+"$tool" haptics "$work/reporting.json" --method penalty --virtual-time > "$work/out.txt" 2> "$work/err.txt" \
+  || fail "report mode exited non-zero: $(cat "$work/err.txt")"
+grep -q '"haptic_ticks": 1600,' "$work/out.txt" || fail "report mode: the session did not run to its end"
+grep -q "runaway reported" "$work/err.txt" || fail "report mode: no line on stderr"
+grep -q '"guard_stopped": false' "$work/out.txt" || fail "report mode: guard_stopped set"
 echo "ok"

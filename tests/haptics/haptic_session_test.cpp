@@ -2,7 +2,8 @@
 /// @brief Whole haptic sessions on the shipped scenes, in deterministic virtual time (paper Sections 4, 5):
 /// peg in the matched hole (both methods), the shrunk hole (constraint stops, penalty goes in: Fig. 7),
 /// a fast push onto a thin wire (constraint never penetrates, discrete penalty tunnels: Figs. 11, 12),
-/// a box sliding on a plane, the Fig. 13 pocket (Stuck, never NaN); the real-time two-loop mode; outputs.
+/// a box sliding on a plane, the Fig. 13 pocket (Stuck, never NaN); the real-time two-loop mode; outputs; the
+/// runaway guard (issue 14): an exploding object makes the device render zero force and the loop stop.
 #include "sdfccd/haptics/haptic_session.h"
 
 #include <gtest/gtest.h>
@@ -21,7 +22,10 @@ HapticSessionSummary run(const HapticScene& scene, HapticMethod method) {
   HapticSessionSettings s;
   s.method = method;
   s.recordTicks = false;
-  return runHapticSession(scene, s).summary;
+  const HapticSessionSummary summary = runHapticSession(scene, s).summary;
+  // The shipped scenes are sound: the runaway guard never fires on them.
+  EXPECT_EQ(summary.runaway, "") << scene.name << " " << toString(method);
+  return summary;
 }
 
 struct ConstraintAndPenalty {
@@ -147,6 +151,103 @@ TEST(HapticSession, WritesTickCsvAndSummaryJson) {
        {"\"method\"", "\"inserted\"", "\"max_penetration_cells\"", "\"tunneled\"", "\"haptic_rate_hz\"",
         "\"haptic_overruns\"", "\"sim_cycle_p50_ms\"", "\"sim_cycle_p99_ms\"", "\"max_contacts\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+// plane-slide with an absurd penalty stiffness (any positive value is allowed): the explicit-in-contact part of the
+// step flings the box off the plane within a few dozen ticks.
+HapticScene explodingPenaltyScene() {
+  HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  scene.penalty.contact.stiffness = 1e12;
+  return scene;
+}
+
+HapticSessionResult runPenalty(const HapticScene& scene, bool realTime = false) {
+  HapticSessionSettings s;
+  s.method = HapticMethod::Penalty;
+  s.realTime = realTime;
+  s.seconds = realTime ? 0.2 : 0.0;
+  return runHapticSession(scene, s);
+}
+
+TEST(HapticGuard, ExplodingPenaltyObjectStopsTheLoopWithZeroForce) {
+  const HapticSessionResult r = runPenalty(explodingPenaltyScene());
+  EXPECT_TRUE(r.summary.guardStopped);
+  EXPECT_NE(r.summary.runaway.find("body 'simulated object'"), std::string::npos) << r.summary.runaway;
+  EXPECT_EQ(r.summary.runaway.find('\n'), std::string::npos);
+  // Stopped early (the scene lasts 1600 ticks), every tick recorded, the last one rendering nothing.
+  EXPECT_LT(r.summary.hapticTicks, 200);
+  ASSERT_EQ(r.ticks.size(), static_cast<std::size_t>(r.summary.hapticTicks));
+  EXPECT_EQ(r.ticks.back().wrenchOnDevice, Vec6::Zero());
+  EXPECT_NE(summaryJson(r.summary).find("\"guard_stopped\": true"), std::string::npos);
+}
+
+TEST(HapticGuard, WithoutTheGuardTheSameSessionExplodes) {
+  // The control: the violation above is real. With the guard off the session runs to its end, far off the plane.
+  HapticScene scene = explodingPenaltyScene();
+  scene.guard.action = GuardAction::Off;
+  const HapticSessionResult r = runPenalty(scene);
+  EXPECT_FALSE(r.summary.guardStopped);
+  EXPECT_EQ(r.summary.runaway, "");
+  EXPECT_EQ(r.summary.hapticTicks, 1600);
+  EXPECT_FALSE(r.summary.finalPosition.allFinite() && r.summary.finalPosition.norm() < 1.0)
+      << r.summary.finalPosition.transpose();
+}
+
+TEST(HapticGuard, ReportActionKeepsTheSessionRunning) {
+  HapticScene scene = explodingPenaltyScene();
+  scene.guard.action = GuardAction::Report;
+  const HapticSessionResult r = runPenalty(scene);
+  EXPECT_FALSE(r.summary.guardStopped);
+  EXPECT_NE(r.summary.runaway.find("simulated object"), std::string::npos);
+  EXPECT_EQ(r.summary.hapticTicks, 1600);
+}
+
+TEST(HapticGuard, RealTimeLoopStopsToo) {
+  const HapticSessionResult r = runPenalty(explodingPenaltyScene(), /*realTime=*/true);
+  EXPECT_TRUE(r.summary.guardStopped);
+  EXPECT_LT(r.summary.hapticTicks, 200);  // the 0.2 s session ends at the violation
+  ASSERT_FALSE(r.ticks.empty());
+  EXPECT_EQ(r.ticks.back().wrenchOnDevice, Vec6::Zero());
+}
+
+TEST(HapticGuard, ConstraintMethodGodObjectThrownAcrossTheWorldStops) {
+  // A forced state: the scripted hand is 50 m away from the start and the god-object's step limit is lifted, so the
+  // god-object follows the device at tens of m/s while the script itself never moves (no kinematic budget).
+  HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  Rigid far = Rigid::Identity();
+  far.translation() = Vec3(50.0, 0.0101, 0.0);
+  scene.script = UserScript({PoseKeyframe{0.0, far}, PoseKeyframe{0.5, far}});
+  scene.god.maxStepTranslation = 1e9;
+  scene.device.maxForce = 1e9;
+  HapticSessionSettings s;
+  s.method = HapticMethod::Constraint;
+  s.seconds = 0.5;
+  const HapticSessionResult r = runHapticSession(scene, s);
+  EXPECT_TRUE(r.summary.guardStopped) << r.summary.finalPosition.transpose();
+  EXPECT_NE(r.summary.runaway.find("simulated object"), std::string::npos);
+  EXPECT_LT(r.summary.hapticTicks, 500);
+  EXPECT_EQ(r.ticks.back().wrenchOnDevice, Vec6::Zero());
+}
+
+TEST(HapticScene, GuardKeyIsReadAndChecked) {
+  const std::string path = ::testing::TempDir() + "/guard-scene.json";
+  const auto write = [&](const std::string& guard) {
+    std::ofstream f(path);
+    f << "{\"obstacle\": {\"plane\": {\"normal\": [0,1,0]}}, \"shell\": {\"shape\": \"box\", \"halfExtents\": "
+         "[0.01,0.01,0.01], \"points\": 50}, \"start\": {\"position\": [0,0.02,0]}, \"script\": [{\"t\": 0, "
+         "\"position\": [0,0.02,0]}], \"guard\": "
+      << guard << "}";
+  };
+  write("{\"action\": \"report\", \"max_speed\": 5, \"energy_factor\": 10, \"extent_factor\": 20}");
+  const HapticScene scene = loadHapticScene(path);
+  EXPECT_EQ(scene.guard.action, GuardAction::Report);
+  EXPECT_EQ(scene.guard.maxSpeed, 5.0);
+  EXPECT_EQ(scene.guard.energyFactor, 10.0);
+  EXPECT_EQ(scene.guard.extentFactor, 20.0);
+  for (const char* bad : {"{\"action\": \"explode\"}", "{\"max_speed\": 0.5}", "{\"speed\": 5}", "3"}) {
+    write(bad);
+    EXPECT_THROW(loadHapticScene(path), Error) << bad;
+  }
 }
 
 TEST(HapticScene, BadFilesGiveOneLineErrors) {

@@ -85,7 +85,8 @@ class DeviceEmulator {
   /// One tick without a handler: applies `renderedWrench` (clamped) and the user's pull for dt.
   void step(const Vec6& renderedWrench);
 
-  /// Runs `ticks` ticks on this thread without sleeping (deterministic virtual time).
+  /// Runs `ticks` ticks on this thread without sleeping (deterministic virtual time), fewer if the handler calls
+  /// requestStop().
   LoopTimingStats runVirtual(std::int64_t ticks, const TickHandler& handler);
 
   /// Starts the real-time loop on its own thread; it stops by itself after `maxTicks` ticks (or at stop()).
@@ -93,6 +94,9 @@ class DeviceEmulator {
   void start(TickHandler handler, std::int64_t maxTicks);
   /// Asks the loop to stop and joins it. Safe to call twice.
   void stop();
+  /// Asks the loop to stop after the current tick without joining: callable from the tick handler itself (the
+  /// runaway guard ends a session this way), in real time and in runVirtual alike.
+  void requestStop() { m_stopRequested.store(true, std::memory_order_relaxed); }
   /// True while the loop thread has ticks left to run.
   bool running() const { return m_running.load(std::memory_order_acquire); }
   /// Blocks until the loop has run its ticks (or was stopped), then joins it.

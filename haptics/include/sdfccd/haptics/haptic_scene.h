@@ -35,6 +35,7 @@
 #include "sdfccd/haptics/penalty_renderer.h"
 #include "sdfccd/haptics/user_script.h"
 #include "sdfccd/mesh/triangle_mesh.h"
+#include "sdfccd/model/scene_guard.h"
 #include "sdfccd/shell/point_tree.h"
 
 namespace sdfccd::haptics {
@@ -93,6 +94,9 @@ struct HapticScene {
   GodObjectSettings god;
   PenaltyRendererSettings penalty;
   HapticSceneChecks checks;
+  /// "guard": the runaway watchdog of the simulated object (same keys and defaults as a simulation scene's
+  /// guard, sdfccd/model/scene_guard.h): on a runaway the device force goes to zero and the loop stops.
+  SceneGuard guard;
 };
 
 /// Replaces the scene's shell by `points` points sampled from its mesh (for point-count sweeps). Throws

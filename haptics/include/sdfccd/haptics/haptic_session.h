@@ -83,6 +83,11 @@ struct HapticSessionSummary {
   int shellPoints = 0;
   Vec3 finalPosition = Vec3::Zero();  ///< the simulated object's centre at the end
   double insertProgress = 0.0;        ///< deepest reach along the insert axis (model units)
+  /// The runaway guard (scene key "guard"): its first violation, one line naming the body ("" if none), and
+  /// whether it stopped the session (action "stop": the device rendered zero force from that tick on and the loop
+  /// ended; hapticTicks counts the ticks run).
+  std::string runaway;
+  bool guardStopped = false;
 };
 
 struct HapticSessionResult {
