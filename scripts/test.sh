@@ -70,9 +70,13 @@ echo "== tests (address,undefined sanitizers)" >&2
 # The install/consumer test proves packaging, not memory safety: the Release run covered it.
 # The textbook mechanics suites (tests/bullet/textbook_*_test.cpp: seconds of simulated time each) run their
 # short subset here, the cases whose names end in "Short"; the Release run above ran them all.
+# Long runs of code that shorter cases already drive under the sanitizers are left to the Release run too: the
+# golden hash (600 frames of 20 bunnies), the 100,000-step resting box, the haptic sessions that run seconds of
+# the peg and the alpha puzzle, and the cached alpha-puzzle field (each 10-30 s under ASan).
 textbook='Textbook[A-Za-z]*\.|Incline\.'
+long_runs='GoldenHash\.|Stability\.RestingBoxGainsNoEnergy|HapticSession\.(ShrunkHole|PegGoesInto|Fig13Pocket)|AlphaPuzzleScene\.FieldIsCached'
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -LE install -E "$textbook"
+  ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -LE install -E "$textbook|$long_runs"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -R 'Textbook[A-Za-z]*\..*Short$'
 
@@ -82,6 +86,11 @@ cmake -S . -B build-tsan "${sanitizer_flags[@]}" -DSDFCCD_SANITIZE=thread -DSDFC
   -DSDFCCD_BUILD_RENDER=OFF -DSDFCCD_BUILD_TOOLS=OFF >/dev/null
 cmake --build build-tsan -j"$jobs" --target haptics_tests
 echo "== tests (thread sanitizer)" >&2
-TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build-tsan --output-on-failure -j"$jobs" --timeout 900 -L haptics_tests
+# The threads are the device loop, the simulation loop beside it and the SDF builder's workers: every haptics
+# test that runs them, not the single-threaded sessions that only run longer (the alpha puzzle, the clearance
+# cache's bit-identity runs, the peg, Fig. 13: 10-35 s each under TSan, all in the Release and ASan runs).
+single_threaded_long='AlphaPuzzleScene\.|GodObjectClearanceCache\.|HapticSession\.(ShrunkHole|PegGoesInto|Fig13Pocket)'
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build-tsan --output-on-failure -j"$jobs" --timeout 900 -L haptics_tests \
+  -E "$single_threaded_long"
 
 fuzz_stage

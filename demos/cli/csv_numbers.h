@@ -14,14 +14,9 @@
 #include <string>
 #include <vector>
 
-namespace sdfccd::cli {
+#include "sdfccd/csv_numbers.h"
 
-/// One non-blank, non-comment line of a numeric CSV file.
-struct CsvNumberLine {
-  int lineNumber = 0;          ///< 1-based line number in the file
-  std::string where;           ///< "FILE:LINE: ", the prefix of every error about this line
-  std::vector<double> values;  ///< the line's values, all finite
-};
+namespace sdfccd::cli {
 
 /// Reads every record of `path`. `what` names the file's role in the error of a missing file ("cannot read
 /// `what` file 'path'"). Throws sdfccd::Error on a missing or unreadable file, an empty value, a value that is

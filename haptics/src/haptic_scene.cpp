@@ -13,6 +13,7 @@
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "sdfccd/mesh/sdf_builder.h"
 #include "sdfccd/model/alpha_puzzle_piece.h"
+#include "sdfccd/model/detail/guard_reader.h"
 #include "sdfccd/model/detail/json_reader.h"
 #include "sdfccd/model/mesh_file.h"
 #include "sdfccd/model/model_cache.h"
@@ -379,30 +380,6 @@ void readChecks(const Reader& r, const Json& root, HapticSceneChecks& checks) {
   }
 }
 
-/// "guard": the runaway watchdog, with the keys and bounds of a simulation scene's "guard" (README "Scene
-/// files"). Factors below 1 would stop sound sessions, so they are refused.
-void readGuard(const Reader& r, const Json& root, SceneGuard& guard) {
-  if (!root.contains("guard")) return;
-  const Json& g = r.object(root, "guard", "");
-  r.checkKeys(g, {"energy_factor", "max_speed", "extent_factor", "action"}, "guard");
-  const auto atLeastOne = [&](const char* key, double fallback) {
-    const double v = r.number(g, key, "guard", fallback);
-    if (!(v >= 1.0)) r.fail(Reader::join("guard", key), "must be >= 1 (got " + Reader::numberText(v) + ")");
-    return v;
-  };
-  guard.energyFactor = atLeastOne("energy_factor", guard.energyFactor);
-  guard.maxSpeed = atLeastOne("max_speed", guard.maxSpeed);
-  guard.extentFactor = atLeastOne("extent_factor", guard.extentFactor);
-  const std::string action = r.string(g, "action", "guard");
-  if (action == "report") {
-    guard.action = GuardAction::Report;
-  } else if (action == "off") {
-    guard.action = GuardAction::Off;
-  } else if (!action.empty() && action != "stop") {
-    r.fail("guard.action", "must be stop, report or off (got '" + action + "')");
-  }
-}
-
 }  // namespace
 
 HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettings& loadSettings) {
@@ -455,7 +432,7 @@ HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettin
   scene.penalty.timestep = 1.0 / scene.device.rateHz;
   readPenalty(r, root, scene.cellSize, scene.penalty);
   readChecks(r, root, scene.checks);
-  readGuard(r, root, scene.guard);
+  if (root.contains("guard")) scene.guard = detail::readGuard(r, r.object(root, "guard", ""));
   return scene;
 }
 

@@ -126,7 +126,7 @@ double atanDegrees(double mu) {
   return std::atan(mu) * 180.0 / kPi;
 }
 
-TEST(TextbookPenalty, InclineSticksBelowAtanMuShort) {
+TEST(TextbookPenalty, InclineSticksBelowAtanMu) {
   expectIncline(atanDegrees(0.5) - 3.0, 0.5);
 }
 
@@ -222,7 +222,7 @@ std::vector<std::string> stack(int count, double gap = 0.001) {
   return bodies;
 }
 
-TEST(TextbookPenalty, StackOfThreeStandsShort) {
+TEST(TextbookPenalty, StackOfThreeStands) {
   SceneWorld world(textbookScene(stack(3), 0.5, Vec3(0, -kG, 0), true), cached());
   expectStands(world, 10.0, "stack of 3");
 }
@@ -414,7 +414,7 @@ TEST(TextbookPenalty, KinematicBoxPushesABunnyShort) {
   EXPECT_GT(world.bodyState(0).position.x(), front);
 }
 
-TEST(TextbookPenalty, TwoChildCompoundRestsOnTheGroundShort) {
+TEST(TextbookPenalty, TwoChildCompoundRestsOnTheGround) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;

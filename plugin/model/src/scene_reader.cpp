@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "sdfccd/error.h"
+#include "sdfccd/model/detail/guard_reader.h"
 #include "sdfccd/model/detail/json_reader.h"
 #include "sdfccd/model/scene.h"
 
@@ -99,16 +100,17 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   return b;
 }
 
-/// "guard": the runaway watchdog (runaway_guard.h). Factors below 1 would stop sound runs, so they are refused.
-SceneGuard readGuard(const Reader& r, const Json& g) {
+}  // namespace
+
+SceneGuard detail::readGuard(const JsonReader& r, const Json& g) {
   r.checkObject(g, "guard");
   r.checkKeys(g, {"energy_factor", "max_speed", "extent_factor", "action"}, "guard");
   SceneGuard guard;
   auto atLeast = [&](const char* key, double fallback, double lo) {
     const double v = r.number(g, key, "guard", fallback);
     if (!(v >= lo)) {
-      r.fail(Reader::join("guard", key),
-             "must be >= " + Reader::numberText(lo) + " (got " + Reader::numberText(v) + ")");
+      r.fail(JsonReader::join("guard", key),
+             "must be >= " + JsonReader::numberText(lo) + " (got " + JsonReader::numberText(v) + ")");
     }
     return v;
   };
@@ -125,8 +127,6 @@ SceneGuard readGuard(const Reader& r, const Json& g) {
   }
   return guard;
 }
-
-}  // namespace
 
 std::string Scene::effectList() const {
   std::string out;
@@ -268,7 +268,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
                                            : "discrete applies to penalty mode only (contact.mode is solver)");
     }
   }
-  if (root.contains("guard")) s.guard = readGuard(r, root.at("guard"));
+  if (root.contains("guard")) s.guard = detail::readGuard(r, root.at("guard"));
   if (!root.contains("bodies") || !root.at("bodies").is_array() || root.at("bodies").empty()) {
     r.fail("bodies", "must be a non-empty array");
   }

@@ -13,12 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "sdfccd/csv_numbers.h"
 #include "sdfccd/math_types.h"
 
 namespace sdfccd {
 
 /// Longest accepted line, in bytes (without its newline).
-constexpr std::size_t kMaxSegmentLineBytes = 4096;
+constexpr std::size_t kMaxSegmentLineBytes = kMaxCsvLineBytes;
 /// Most segments accepted in one file.
 constexpr std::size_t kMaxSegments = 10'000'000;
 
