@@ -165,7 +165,7 @@ TriangleMesh proceduralMesh(const Reader& r, const Json& j, const std::string& w
 /// triangles and the build parameters.
 std::shared_ptr<const SdfGrid> meshObstacleGrid(const TriangleMesh& mesh, const SdfBuildSettings& build,
                                                 const std::string& cacheDir, const std::string& name) {
-  constexpr int kCacheVersion = 1;
+  constexpr int kCacheVersion = 2;  // 2: self-intersecting meshes signed by winding number
   ModelCacheKey key;
   key.add(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
   key.add(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));

@@ -62,7 +62,7 @@ TEST(BodyModel, CacheEntriesAreNamedByContentAndReloadIdentically) {
   std::ostringstream bytes;
   bytes << in.rdbuf();
   ModelCacheKey key;
-  key.add(bytes.str()).add("v1 r16 p2 n0 s0.5");
+  key.add(bytes.str()).add("v2 r16 p2 n0 s0.5");
   const std::string stem = (cache / ("bunny-" + key.hex())).string();
   EXPECT_TRUE(std::filesystem::is_regular_file(stem + ".sdf")) << stem;
   EXPECT_TRUE(std::filesystem::is_regular_file(stem + ".ply")) << stem;

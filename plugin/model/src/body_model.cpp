@@ -18,7 +18,8 @@
 namespace sdfccd {
 namespace {
 
-constexpr int kCacheVersion = 1;  // bump when the cached content changes meaning
+constexpr int kCacheVersion =
+    2;  // bump when the cached content changes meaning (2: self-intersecting meshes signed by winding number)
 
 std::string readFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
