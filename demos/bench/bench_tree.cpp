@@ -387,38 +387,40 @@ int runBenchTree(const BenchTreeOptions& o) {
   return 0;
 }
 
-const BenchRegistrar bench_treeRegistrar("tree", "Table 3: rigid CCD, point by point vs the point tree", [](CLI::App& cmd) {
-  auto o = std::make_shared<BenchTreeOptions>();
-  cmd.add_flag("--quick", o->quick, "Seconds-long run: 64^3 fields, 100 configurations, a 20,000-point dragon");
-  cmd.add_option("--out", o->csv, "CSV output (model,points,configs,linear_s,tree_s,speedup); empty: none");
-  cmd.add_option("--assets", o->assets, "The assets folder (meshes/bunny.off, meshes/dragon.off)");
-  const CLI::Option* cache = addCacheOption(cmd, o->cache, "Where the dragon shell is cached");
-  cmd.add_option("--resolution", o->resolution, "Cells along the longest side of each field (default 256; quick 64)")
-      ->check(countIn(8, 4096));
-  cmd.add_option("--configs", o->configs, "Random pose pairs per model (default 1000; quick 100)")
-      ->check(countIn(1, 10000000));
-  cmd.add_option("--dragon-points", o->dragonPoints, "Points of the dragon shell (default 437645; quick 20000)")
-      ->check(countIn(1, 10000000));
-  cmd.add_option("--models", o->models, "Comma-separated subset of bunny,bowl,dragon")->check(nonEmpty());
-  cmd.add_option("--seed", o->seed, "Seed of the poses");
-  cmd.add_option("--mode", o->mode,
-                 "What the leaves compute: first-hit (default: CCD = time of contact) or all-intervals");
-  cmd.add_option("--motion", o->motion,
-                 "random: independent start and end poses (Table 3, default); step: a short "
-                 "simulation-like step from each random pose");
-  cmd.add_option("--query", o->query,
-                 "all: every contact; earliest: only the earliest contact (time of impact, branch and "
-                 "bound) and every point tied at it; earliest-one: the earliest contact and one witness point; "
-                 "both (default): all, then earliest-one");
-  cmd.add_option("--branching", o->branching, "Children per inner node of the point tree (default 8)");
-  cmd.add_option("--cull-lipschitz", o->cullLipschitz,
-                 "Gradient bound of the node test (default 0: the field's own bound, which never misses a "
-                 "contact; 1: the paper's test, which can miss contacts of a steep grid)");
-  return std::function<int()>([o, cache]() {
-    o->cache = resolveCacheOption(cache, o->cache);
-    return runBenchTree(*o);
-  });
-});
+const BenchRegistrar bench_treeRegistrar(
+    "tree", "Table 3: rigid CCD, point by point vs the point tree", [](CLI::App& cmd) {
+      auto o = std::make_shared<BenchTreeOptions>();
+      cmd.add_flag("--quick", o->quick, "Seconds-long run: 64^3 fields, 100 configurations, a 20,000-point dragon");
+      cmd.add_option("--out", o->csv, "CSV output (model,points,configs,linear_s,tree_s,speedup); empty: none");
+      cmd.add_option("--assets", o->assets, "The assets folder (meshes/bunny.off, meshes/dragon.off)");
+      const CLI::Option* cache = addCacheOption(cmd, o->cache, "Where the dragon shell is cached");
+      cmd.add_option("--resolution", o->resolution,
+                     "Cells along the longest side of each field (default 256; quick 64)")
+          ->check(countIn(8, 4096));
+      cmd.add_option("--configs", o->configs, "Random pose pairs per model (default 1000; quick 100)")
+          ->check(countIn(1, 10000000));
+      cmd.add_option("--dragon-points", o->dragonPoints, "Points of the dragon shell (default 437645; quick 20000)")
+          ->check(countIn(1, 10000000));
+      cmd.add_option("--models", o->models, "Comma-separated subset of bunny,bowl,dragon")->check(nonEmpty());
+      cmd.add_option("--seed", o->seed, "Seed of the poses");
+      cmd.add_option("--mode", o->mode,
+                     "What the leaves compute: first-hit (default: CCD = time of contact) or all-intervals");
+      cmd.add_option("--motion", o->motion,
+                     "random: independent start and end poses (Table 3, default); step: a short "
+                     "simulation-like step from each random pose");
+      cmd.add_option("--query", o->query,
+                     "all: every contact; earliest: only the earliest contact (time of impact, branch and "
+                     "bound) and every point tied at it; earliest-one: the earliest contact and one witness point; "
+                     "both (default): all, then earliest-one");
+      cmd.add_option("--branching", o->branching, "Children per inner node of the point tree (default 8)");
+      cmd.add_option("--cull-lipschitz", o->cullLipschitz,
+                     "Gradient bound of the node test (default 0: the field's own bound, which never misses a "
+                     "contact; 1: the paper's test, which can miss contacts of a steep grid)");
+      return std::function<int()>([o, cache]() {
+        o->cache = resolveCacheOption(cache, o->cache);
+        return runBenchTree(*o);
+      });
+    });
 
 }  // namespace
 }  // namespace sdfccd::cli

@@ -23,8 +23,8 @@ struct ReportContext {
   std::filesystem::path assetsDir;  ///< the project's assets/ (meshes, scenes)
   std::filesystem::path cacheDir;   ///< the model cache (--cache; default $XDG_CACHE_HOME/sdfccd); "": none
   bool quick = false;               ///< `--quick`: the whole report in a few minutes
-  bool smoke = false;               ///< hidden `--smoke` (tests): quick with the smallest counts that still mean something
-  int threads = 1;                  ///< worker threads a section may use (timings are one core unless stated)
+  bool smoke = false;  ///< hidden `--smoke` (tests): quick with the smallest counts that still mean something
+  int threads = 1;     ///< worker threads a section may use (timings are one core unless stated)
   std::function<void(double)> progress;  ///< fraction of this section done, in [0, 1] (never null)
 };
 

@@ -204,7 +204,7 @@ ReportSection runEffectsSection(const ReportContext& context) {
 }
 
 const ReportRegistrar bullet_effectsRegistrar(60, "effects", "Effects: what a scene does not ask for costs nothing",
-                                runEffectsSection);
+                                              runEffectsSection);
 
 }  // namespace
 }  // namespace sdfccd::cli

@@ -332,7 +332,8 @@ ReportSection runThin(const ReportContext& ctx) {
   return section;
 }
 
-const ReportRegistrar bullet_thin_featuresRegistrar(20, "thin", "Thin features: tunnelling vs resolution and speed", runThin);
+const ReportRegistrar bullet_thin_featuresRegistrar(20, "thin", "Thin features: tunnelling vs resolution and speed",
+                                                    runThin);
 
 }  // namespace
 }  // namespace sdfccd::cli

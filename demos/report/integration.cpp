@@ -403,7 +403,8 @@ ReportSection runIntegrationSection(const ReportContext& context) {
   return {md.str(), ok};
 }
 
-const ReportRegistrar integrationRegistrar(40, "integration", "Penalty integration: midpoint subintervals", runIntegrationSection);
+const ReportRegistrar integrationRegistrar(40, "integration", "Penalty integration: midpoint subintervals",
+                                           runIntegrationSection);
 
 }  // namespace
 }  // namespace sdfccd::cli

@@ -179,8 +179,10 @@ void expectMassRatioRests(double lowerMass, double upperMass, double timestep, d
   const std::string bodies =
       boxBody("lower", 0.15, h, 0.15, lowerMass, lowerY) + ", " + boxBody("upper", 0.08, h, 0.08, upperMass, upperY);
   char contact[160];
-  std::snprintf(contact, sizeof contact,
-                R"("contact": { "mode": "penalty", "stiffness": %.17g, "damping": %.17g, "direction": "field_gradient" })", k, damping);
+  std::snprintf(
+      contact, sizeof contact,
+      R"("contact": { "mode": "penalty", "stiffness": %.17g, "damping": %.17g, "direction": "field_gradient" })", k,
+      damping);
   const Scene scene =
       test::sceneFromText(R"({ "timestep": )" + std::to_string(timestep) +
                           R"(, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"], )" +

@@ -15,7 +15,6 @@
 namespace sdfccd {
 namespace {
 
-
 // Area of the regular polygon of `segments` sides inscribed in the circle of radius r.
 double polygonArea(double r, int segments) {
   return 0.5 * segments * r * r * std::sin(2.0 * kPi / segments);

@@ -15,7 +15,6 @@
 namespace sdfccd::render {
 namespace {
 
-
 /// Saved next to the test binary for looking at by eye (not part of any assertion).
 void keepForInspection(const RgbImage& image, const std::string& name) {
   const char* folder = std::getenv("SDFCCD_RENDER_TEST_OUT");

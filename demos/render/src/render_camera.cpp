@@ -11,7 +11,6 @@ namespace sdfccd::render {
 
 namespace {
 
-
 double degreesToRadians(double degrees) {
   return degrees * kPi / 180.0;
 }

@@ -12,7 +12,6 @@
 namespace sdfccd {
 namespace {
 
-
 TEST(ProceduralMeshes, BoxIsClosedOutwardWithExactVolume) {
   const TriangleMesh box = makeBox(Vec3(1.0, 2.0, 0.5));
   EXPECT_EQ(box.triangles.size(), 12u);

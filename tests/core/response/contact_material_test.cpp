@@ -13,7 +13,6 @@
 namespace sdfccd {
 namespace {
 
-
 TEST(ContactMaterial, DampingRatioFromRestitutionMatchesTheClosedForm) {
   EXPECT_EQ(dampingRatioFromRestitution(0.0), 1.0);  // stated: critical
   EXPECT_EQ(dampingRatioFromRestitution(1.0), 0.0);

@@ -15,7 +15,6 @@
 namespace sdfccd {
 namespace {
 
-
 void expectAreasSumTo(const PointShell& shell, double expected) {
   ASSERT_TRUE(shell.hasAreas());
   EXPECT_NO_THROW(shell.validate());

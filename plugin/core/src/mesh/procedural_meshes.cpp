@@ -14,7 +14,6 @@
 namespace sdfccd {
 namespace {
 
-
 // Signed volume by the divergence theorem; computed here so that the generators do not depend on the mesh
 // module's translation unit.
 double volumeOf(const TriangleMesh& mesh) {

@@ -12,7 +12,6 @@
 namespace sdfccd {
 namespace {
 
-
 void requireRange(double value, double lo, double hi, const char* name) {
   if (!(value >= lo && value <= hi)) {
     throw Error(std::string("contact material: ") + name + " must be in [" + std::to_string(lo) + ", " +
