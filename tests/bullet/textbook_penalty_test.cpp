@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet/compound_on_ground.h"
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
@@ -415,60 +416,26 @@ TEST(TextbookPenalty, KinematicBoxPushesABunnyShort) {
 }
 
 TEST(TextbookPenalty, TwoChildCompoundRestsOnTheGround) {
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher(&configuration);
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
-  world.setGravity(btVector3(0, btScalar(-kG), 0));
   SdfccdContactSettings settings;
   settings.mode = SdfccdContactMode::Penalty;
   settings.penalty.frictionFromBodies = false;
   settings.penalty.friction = 0.5;
-  auto contacts = registerSdfccdAlgorithms(&world, settings);
-  BodyModelSettings ms;
-  ms.resolution = 32;
-  ms.boxHalfExtents = Vec3::Constant(kHalf);
-  auto model = BodyModel::buildFromMesh(makeBox(Vec3::Constant(kHalf)), ms);
-  SdfccdShape left(model), right(model);
-  btCompoundShape compound;
-  btTransform t;
-  t.setIdentity();
-  t.setOrigin(btVector3(btScalar(-0.08), 0, 0));
-  compound.addChildShape(t, &left);
-  t.setOrigin(btVector3(btScalar(0.08), 0, 0));
-  compound.addChildShape(t, &right);
-  btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
-  btRigidBody ground(btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &plane));
-  btVector3 inertia;
-  compound.calculateLocalInertia(2, inertia);
-  btRigidBody::btRigidBodyConstructionInfo info(2, nullptr, &compound, inertia);
-  info.m_startWorldTransform.setIdentity();
-  info.m_startWorldTransform.setOrigin(btVector3(0, btScalar(kHalf + 0.05), 0));
-  btRigidBody body(info);
-  body.setActivationState(DISABLE_DEACTIVATION);
-  world.addRigidBody(&ground);
-  world.addRigidBody(&body);
-  for (int step = 0; step < 3000; ++step) world.stepSimulation(btScalar(0.001), 0);
-  const btTransform pose = body.getWorldTransform();
-  const double cell = model->cellSize();
-  for (const btTransform& child : {compound.getChildTransform(0), compound.getChildTransform(1)}) {
-    double lowest = 1e9;
-    for (const Vec3& p : model->shell().positions) {
-      const btVector3 w = pose * (child * btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z())));
-      lowest = std::min(lowest, double(w.y()));
-    }
-    EXPECT_GT(lowest, -cell);
-  }
-  const double height = pose.getOrigin().y();
-  const btVector3 omega = body.getAngularVelocity();
+  btTransform left, right;
+  left.setIdentity();
+  left.setOrigin(btVector3(btScalar(-0.08), 0, 0));
+  right.setIdentity();
+  right.setOrigin(btVector3(btScalar(0.08), 0, 0));
+  test::CompoundOnGround scene(settings, kHalf, left, right, kHalf + 0.05, kG);
+  scene.body().setActivationState(DISABLE_DEACTIVATION);
+  scene.step(3000, 0.001);
+  const double cell = scene.cellSize();
+  for (int child = 0; child < 2; ++child) EXPECT_GT(scene.lowestShellPoint(child), -cell);
+  const double height = scene.body().getWorldTransform().getOrigin().y();
+  const btVector3 omega = scene.body().getAngularVelocity();
   std::printf("compound: centre height %.4f m (half height %.3f), omega (%.3g, %.3g, %.3g) rad/s\n", height, kHalf,
               double(omega.x()), double(omega.y()), double(omega.z()));
   EXPECT_NEAR(height, kHalf, cell);
-  EXPECT_LT(body.getAngularVelocity().length(), 0.01);
-  world.removeRigidBody(&body);
-  world.removeRigidBody(&ground);
-  world.removeAction(contacts.get());
+  EXPECT_LT(omega.length(), 0.01);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet/compound_on_ground.h"
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
@@ -466,54 +467,20 @@ TEST(SolverTextbook, DampedKineticEnergyNeverAboveItsPreContactMaximum) {
 TEST(SolverTextbook, TwoChildCompoundRestsOnTheGroundShort) {
   // Two box children, the second turned 45 degrees about z: each child's shell and field must sit at its own child
   // frame (a shell placed in the body's frame would leave the turned child's corner 2 cm in the ground).
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher(&configuration);
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
-  world.setGravity(btVector3(0, btScalar(-kG), 0));
   SdfccdContactSettings settings;
   settings.mode = SdfccdContactMode::Solver;
-  auto contacts = registerSdfccdAlgorithms(&world, settings);
-  BodyModelSettings ms;
-  ms.resolution = 32;
-  ms.boxHalfExtents = Vec3::Constant(kHalf);
-  auto model = BodyModel::buildFromMesh(makeBox(Vec3::Constant(kHalf)), ms);
-  SdfccdShape left(model), right(model);
-  btCompoundShape compound;
-  btTransform t;
-  t.setIdentity();
-  t.setOrigin(btVector3(btScalar(-0.08), 0, 0));
-  compound.addChildShape(t, &left);
-  t.setRotation(btQuaternion(btVector3(0, 0, 1), btScalar(kPi / 4)));
-  t.setOrigin(btVector3(btScalar(0.1), 0, 0));
-  compound.addChildShape(t, &right);
-  btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
-  btRigidBody ground(btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &plane));
-  btVector3 inertia;
-  compound.calculateLocalInertia(2, inertia);
-  btRigidBody::btRigidBodyConstructionInfo info(2, nullptr, &compound, inertia);
-  info.m_startWorldTransform.setIdentity();
-  info.m_startWorldTransform.setOrigin(btVector3(0, btScalar(kHalf * std::sqrt(2.0) + 0.01), 0));
-  btRigidBody body(info);
-  world.addRigidBody(&ground);
-  world.addRigidBody(&body);
-  for (int step = 0; step < 480; ++step) world.stepSimulation(btScalar(kStep), 0);
-  const btTransform pose = body.getWorldTransform();
-  const double cell = model->cellSize();
+  btTransform left, right;
+  left.setIdentity();
+  left.setOrigin(btVector3(btScalar(-0.08), 0, 0));
+  right.setIdentity();
+  right.setRotation(btQuaternion(btVector3(0, 0, 1), btScalar(kPi / 4)));
+  right.setOrigin(btVector3(btScalar(0.1), 0, 0));
+  test::CompoundOnGround scene(settings, kHalf, left, right, kHalf * std::sqrt(2.0) + 0.01, kG);
+  scene.step(480, kStep);
+  const btTransform pose = scene.body().getWorldTransform();
   EXPECT_TRUE(pose.getOrigin().x() == pose.getOrigin().x());  // not NaN
-  for (const btTransform& child : {compound.getChildTransform(0), compound.getChildTransform(1)}) {
-    double lowest = 1e9;
-    for (const Vec3& p : model->shell().positions) {
-      const btVector3 w = pose * (child * btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z())));
-      lowest = std::min(lowest, double(w.y()));
-    }
-    EXPECT_GT(lowest, -cell);
-  }
-  EXPECT_LT(body.getLinearVelocity().length(), 0.05);
-  world.removeRigidBody(&body);
-  world.removeRigidBody(&ground);
-  world.removeAction(contacts.get());
+  for (int child = 0; child < 2; ++child) EXPECT_GT(scene.lowestShellPoint(child), -scene.cellSize());
+  EXPECT_LT(scene.body().getLinearVelocity().length(), 0.05);
 }
 
 TEST(SolverTextbook, TwentyBunnyPileSleeps) {
