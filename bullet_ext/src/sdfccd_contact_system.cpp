@@ -454,23 +454,6 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   m_records.push_back(record);
 }
 
-std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
-                                                              const SdfccdContactSettings& settings) {
-  if (dispatcher == nullptr) throw Error("registerSdfccdAlgorithms: the dispatcher is null");
-  auto system = std::make_shared<SdfccdContactSystem>(settings);
-  system->registerWith(*dispatcher);
-  return system;
-}
-
-std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamicsWorld* world,
-                                                              const SdfccdContactSettings& settings) {
-  if (world == nullptr) throw Error("registerSdfccdAlgorithms: the world is null");
-  auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(world->getDispatcher());
-  if (dispatcher == nullptr)
-    throw Error("registerSdfccdAlgorithms: the world's dispatcher is not a btCollisionDispatcher");
-  auto system = registerSdfccdAlgorithms(dispatcher, settings);
-  world->addAction(system.get());
-  return system;
-}
+// registerSdfccdAlgorithms(): sdfccd_registration.cpp.
 
 }  // namespace sdfccd

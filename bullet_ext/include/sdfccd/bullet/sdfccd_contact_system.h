@@ -38,7 +38,8 @@
 /// their pairs (time_of_impact_clamp.h). Compound children each get their own pose (motion_prediction.h).
 ///
 /// Thread safety: one system per world; the narrowphase must be single threaded (btDiscreteDynamicsWorld,
-/// not btDiscreteDynamicsWorldMt). Models are shared read-only.
+/// not btDiscreteDynamicsWorldMt: registration refuses the Mt world and dispatcher). Models are shared read-only.
+/// Ownership: see registerSdfccdAlgorithms() at the end of this file.
 #pragma once
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -256,14 +257,34 @@ class SdfccdContactSystem : public btActionInterface {
   SdfccdContactStatistics m_stats;
 };
 
-/// Creates a contact system, registers its algorithms with `dispatcher` (every pair involving our shape
-/// type, both orders, contacts and closest points) and returns it. Add it to the dynamics world with
-/// `world.addAction(system.get())` — or use the overload below, which does both.
+/// Registration, the one call a Bullet program makes (after creating the world, before stepping it):
+/// @code
+///   sdfccd::registerSdfccdAlgorithms(&world);   // or keep the returned pointer to read contacts and statistics
+/// @endcode
+/// Ownership and lifetime: the dispatcher's registration owns the system (a process-wide table keyed by the
+/// dispatcher holds a std::shared_ptr), so the returned pointer may be dropped: the system lives until the same
+/// dispatcher is registered again or releaseSdfccdAlgorithms() is called. A program that creates many worlds
+/// calls releaseSdfccdAlgorithms(&world) before destroying each (else each keeps its system's memory until its
+/// dispatcher's address is registered again). Register before adding objects: registering twice on a dispatcher
+/// whose pairs already exist releases the first system under their algorithms.
+///
+/// Threads: the narrowphase must run on one thread. A btDiscreteDynamicsWorldMt or a btCollisionDispatcherMt is
+/// refused (sdfccd::Error); use btDiscreteDynamicsWorld with btCollisionDispatcher.
+///
+/// Creates a contact system, registers its algorithms with `dispatcher` (every pair involving our shape type,
+/// both orders, contacts and closest points) and returns it. Add it to the dynamics world with
+/// `world.addAction(system.get())` — or use the overload below, which does both. Throws sdfccd::Error on a null
+/// or multi-threaded dispatcher and on bad settings.
 std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
                                                               const SdfccdContactSettings& settings = {});
-/// Registers with the world's dispatcher (must be a btCollisionDispatcher) and adds the system as an action.
-/// Remove it with world.removeAction() before destroying it if the world outlives it.
+/// Registers with the world's dispatcher (must be a btCollisionDispatcher, not the Mt one) and adds the system as
+/// an action. Throws sdfccd::Error on a null or multi-threaded world.
 std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamicsWorld* world,
                                                               const SdfccdContactSettings& settings = {});
+/// Undoes registerSdfccdAlgorithms(world): removes the action, frees the algorithms of the world's current pairs
+/// that are ours, points every dispatcher entry of our shape type at btEmptyAlgorithm (no contact) and lets the
+/// system go (it is deleted once no returned pointer holds it). The world stays usable. Does nothing when the
+/// world's dispatcher has no registration. Call it before destroying the world, not after.
+void releaseSdfccdAlgorithms(btDiscreteDynamicsWorld* world);
 
 }  // namespace sdfccd
