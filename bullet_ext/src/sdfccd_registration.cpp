@@ -70,8 +70,9 @@ struct ForgetOurAlgorithms : btOverlapCallback {
 std::shared_ptr<SdfccdContactSystem> registerOwned(btCollisionDispatcher* dispatcher, btDiscreteDynamicsWorld* world,
                                                    const SdfccdContactSettings& settings) {
   if (dynamic_cast<btCollisionDispatcherMt*>(dispatcher) != nullptr) {
-    throw Error("registerSdfccdAlgorithms: btCollisionDispatcherMt is not supported (the sdfccd narrowphase is "
-                "single-threaded): use btCollisionDispatcher");
+    throw Error(
+        "registerSdfccdAlgorithms: btCollisionDispatcherMt is not supported (the sdfccd narrowphase is "
+        "single-threaded): use btCollisionDispatcher");
   }
   auto system = std::make_shared<SdfccdContactSystem>(settings);
   if (world != nullptr) {
@@ -98,8 +99,9 @@ std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamics
                                                               const SdfccdContactSettings& settings) {
   if (world == nullptr) throw Error("registerSdfccdAlgorithms: the world is null");
   if (dynamic_cast<btDiscreteDynamicsWorldMt*>(world) != nullptr) {
-    throw Error("registerSdfccdAlgorithms: btDiscreteDynamicsWorldMt is not supported (the sdfccd narrowphase is "
-                "single-threaded): use btDiscreteDynamicsWorld");
+    throw Error(
+        "registerSdfccdAlgorithms: btDiscreteDynamicsWorldMt is not supported (the sdfccd narrowphase is "
+        "single-threaded): use btDiscreteDynamicsWorld");
   }
   auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(world->getDispatcher());
   if (dispatcher == nullptr)

@@ -20,10 +20,15 @@
 /// rayTest), and only the triangles near the surface crossings are tested. Every triangle is handed over at
 /// most once per query (all-hits callbacks see each crossing once).
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btContinuousConvexCollision.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <mutex>
 
@@ -70,15 +75,34 @@ TriangleBuckets::TriangleBuckets(const TriangleMesh& mesh, double bucketSize) : 
 
 namespace {
 
-constexpr double kBandCells = 1.5;     // the band around the field's zero set that holds every triangle (cells)
-constexpr double kChunkCells = 2.0;    // length of one chunk of the walk (cells; at least the padding)
-constexpr double kBucketCells = 2.0;   // bucket edge of the triangle lookup (cells)
+constexpr double kBandCells = 1.5;    // the band around the field's zero set that holds every triangle (cells)
+constexpr double kChunkCells = 2.0;   // length of one chunk of the walk (cells; at least the padding)
+constexpr double kBucketCells = 2.0;  // bucket edge of the triangle lookup (cells)
 
-/// Per-thread scratch of one query: the triangles handed over so far (sorted) and the current chunk's.
+/// Per-thread scratch of the queries: the current chunk's candidates, and a stamp per triangle index saying
+/// which query handed it over last (so no triangle is handed over twice in one query, without sorting).
+/// A triangle the chunk's path misses is not stamped: a later chunk may need it.
 struct QueryScratch {
-  std::vector<int> fed;
   std::vector<int> chunk;
-  std::vector<int> merged;
+  std::vector<std::uint32_t> stamps;
+  std::uint32_t query = 0;
+
+  /// Starts a query over `triangles` triangles.
+  void begin(std::size_t triangles) {
+    if (stamps.size() < triangles) stamps.resize(triangles, 0);
+    if (++query == 0) {  // wrapped: old stamps could match again
+      std::fill(stamps.begin(), stamps.end(), 0);
+      query = 1;
+    }
+  }
+  /// True the first time `index` is seen in this query (and marks it).
+  bool firstTime(int index) {
+    std::uint32_t& stamp = stamps[static_cast<std::size_t>(index)];
+    if (stamp == query) return false;
+    stamp = query;
+    return true;
+  }
+  bool seen(int index) const { return stamps[static_cast<std::size_t>(index)] == query; }
 };
 
 QueryScratch& queryScratch() {
@@ -105,6 +129,37 @@ bool clipToBox(const Vec3& a, const Vec3& b, const Box3& box, double& t0, double
   }
   return true;
 }
+
+/// Bullet's btTriangleConvexcastCallback never lowers its m_hitFraction, so a walk could not stop at the first
+/// hit. This filter runs the very cast Bullet's processTriangle runs (btContinuousConvexCollision, the same
+/// margin and allowed penetration, the same normal test), keeps the closest fraction, and hands Bullet's
+/// callback only the triangles that bring it closer: Bullet then recomputes and reports them. A closest-hit
+/// result callback sees the same closest hit as with every triangle (later, farther hits are not reported).
+class ClosestSweepFilter : public btTriangleCallback {
+ public:
+  explicit ClosestSweepFilter(btTriangleConvexcastCallback* sweep) : closest(sweep->m_hitFraction), m_sweep(sweep) {}
+  void processTriangle(btVector3* triangle, int partId, int triangleIndex) override {
+    btTriangleShape triangleShape(triangle[0], triangle[1], triangle[2]);
+    triangleShape.setMargin(m_sweep->m_triangleCollisionMargin);
+    btVoronoiSimplexSolver simplexSolver;
+    btGjkEpaPenetrationDepthSolver penetrationSolver;
+    btContinuousConvexCollision caster(m_sweep->m_convexShape, &triangleShape, &simplexSolver, &penetrationSolver);
+    btConvexCast::CastResult result;
+    result.m_fraction = btScalar(1.);
+    result.m_allowedPenetration = m_sweep->m_allowedPenetration;
+    if (!caster.calcTimeOfImpact(m_sweep->m_convexShapeFrom, m_sweep->m_convexShapeTo, m_sweep->m_triangleToWorld,
+                                 m_sweep->m_triangleToWorld, result)) {
+      return;
+    }
+    if (!(result.m_normal.length2() > btScalar(0.0001)) || !(result.m_fraction < closest)) return;
+    closest = result.m_fraction;
+    m_sweep->processTriangle(triangle, partId, triangleIndex);
+  }
+  btScalar closest;  ///< the closest fraction so far (the walk stops behind it)
+
+ private:
+  btTriangleConvexcastCallback* m_sweep;
+};
 
 }  // namespace
 
@@ -161,8 +216,8 @@ void SdfccdShape::feedTrianglesNear(btTriangleCallback* callback, const btScalar
   settings.mode = CcdMode::FirstHit;
   SegmentCcdResult result;
   QueryScratch& scratch = queryScratch();
-  scratch.fed.clear();
   const TriangleMesh& mesh = m_model->meshInBody();
+  scratch.begin(mesh.triangles.size());
   double t = tBegin;
   while (t <= tEnd && t < double(hitFraction)) {
     const double limit = std::min(tEnd, double(hitFraction));
@@ -180,21 +235,26 @@ void SdfccdShape::feedTrianglesNear(btTriangleCallback* callback, const btScalar
     const Vec3 b = from + t1 * (to - from);
     scratch.chunk.clear();
     accel.buckets->collect(a.cwiseMin(b).array() - pad, a.cwiseMax(b).array() + pad, scratch.chunk);
-    std::sort(scratch.chunk.begin(), scratch.chunk.end());
-    scratch.chunk.erase(std::unique(scratch.chunk.begin(), scratch.chunk.end()), scratch.chunk.end());
     btVector3 corners[3];
     for (int index : scratch.chunk) {
-      if (std::binary_search(scratch.fed.begin(), scratch.fed.end(), index)) continue;
+      if (scratch.seen(index)) continue;
       const auto& tri = mesh.triangles[static_cast<std::size_t>(index)];
-      for (int k = 0; k < 3; ++k) {
-        corners[k] = detail::toBt(mesh.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])]);
+      const Vec3& v0 = mesh.vertices[static_cast<std::size_t>(tri[0])];
+      const Vec3& v1 = mesh.vertices[static_cast<std::size_t>(tri[1])];
+      const Vec3& v2 = mesh.vertices[static_cast<std::size_t>(tri[2])];
+      if (radius > 0.0) {
+        // Sweeps: the chunk's path must pass through the triangle's box grown by the padding (each triangle
+        // costs Bullet a continuous GJK cast). Rays: Bullet's own test is as cheap as this one.
+        Box3 reach(v0.cwiseMin(v1).cwiseMin(v2).array() - pad, v0.cwiseMax(v1).cwiseMax(v2).array() + pad);
+        double enter = 0.0, leave = 1.0;
+        if (!clipToBox(a, b, reach, enter, leave)) continue;
       }
+      scratch.firstTime(index);
+      corners[0] = detail::toBt(v0);
+      corners[1] = detail::toBt(v1);
+      corners[2] = detail::toBt(v2);
       callback->processTriangle(corners, 0, index);
     }
-    scratch.merged.clear();
-    std::set_union(scratch.fed.begin(), scratch.fed.end(), scratch.chunk.begin(), scratch.chunk.end(),
-                   std::back_inserter(scratch.merged));
-    scratch.fed.swap(scratch.merged);
     if (t1 >= tEnd) return;
     t = t1;
   }
@@ -214,7 +274,8 @@ bool SdfccdShape::processQuery(btTriangleCallback* callback) const {
     sweep->m_convexShape->getBoundingSphere(centre, radius);
     const double reach = double(centre.length() + radius) + double(sweep->m_triangleCollisionMargin) +
                          std::max(0.0, double(sweep->m_allowedPenetration));
-    feedTrianglesNear(sweep, sweep->m_hitFraction, detail::toVec3(bodyFromWorld * sweep->m_convexShapeFrom.getOrigin()),
+    ClosestSweepFilter filter(sweep);
+    feedTrianglesNear(&filter, filter.closest, detail::toVec3(bodyFromWorld * sweep->m_convexShapeFrom.getOrigin()),
                       detail::toVec3(bodyFromWorld * sweep->m_convexShapeTo.getOrigin()), reach);
     return true;
   }

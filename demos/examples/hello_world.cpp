@@ -43,7 +43,9 @@ int main(int argc, char** argv) {
     world.addRigidBody(bodies.back().get());
     names[bodies.back().get()] = name;
   };
-  auto at = [](btScalar x, btScalar y, btScalar z) { return btTransform(btQuaternion::getIdentity(), btVector3(x, y, z)); };
+  auto at = [](btScalar x, btScalar y, btScalar z) {
+    return btTransform(btQuaternion::getIdentity(), btVector3(x, y, z));
+  };
 
   add("ground", new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, at(0, 0, 0));
   // A static ramp: two triangles of a btBvhTriangleMeshShape, tilted 20 degrees.
@@ -64,10 +66,11 @@ int main(int argc, char** argv) {
   const auto bunny = sdfccd::BodyModel::buildFromMeshFile(meshPath, settings);
   const btScalar height = btScalar(bunny->boundsInBody().sizes().maxCoeff());
   auto addBunny = [&](const std::string& name, const btVector3& where) {
-    add(name, new sdfccd::SdfccdShape(bunny), 0.2f, sdfccd::bodyTransformForMeshPose(*bunny, at(where.x(), where.y(), where.z())));
+    add(name, new sdfccd::SdfccdShape(bunny), 0.2f,
+        sdfccd::bodyTransformForMeshPose(*bunny, at(where.x(), where.y(), where.z())));
   };
   addBunny("bunny-1", btVector3(0, 0.6f * height, 0));
-  addBunny("bunny-2", btVector3(0.005f, 2.2f * height, 0.003f));     // lands on bunny-1
+  addBunny("bunny-2", btVector3(0.005f, 2.2f * height, 0.003f));              // lands on bunny-1
   addBunny("bunny-on-cylinder", btVector3(-0.3f, 0.05f + 1.5f * height, 0));  // needs bunny-cylinder contact
   addBunny("bunny-on-ramp", btVector3(0.4f, 0.1f + 1.5f * height, 0));        // needs bunny-triangle-mesh contact
 

@@ -90,8 +90,8 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
   bool processQuery(btTriangleCallback * callback) const;
   /// Hands `callback` the triangles within `radius` (plus the field's band) of the path from -> to (body frame)
   /// wherever the field allows a crossing, up to the callback's current `hitFraction`.
-  void feedTrianglesNear(btTriangleCallback * callback, const btScalar& hitFraction, const Vec3& from,
-                         const Vec3& to, double radius) const;
+  void feedTrianglesNear(btTriangleCallback * callback, const btScalar& hitFraction, const Vec3& from, const Vec3& to,
+                         double radius) const;
 
   std::shared_ptr<const BodyModel> m_model;
   std::shared_ptr<QueryAccel> m_queryAccel;
