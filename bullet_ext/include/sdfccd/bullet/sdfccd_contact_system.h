@@ -167,7 +167,8 @@ class SdfccdContactSystem : public btActionInterface {
   /// btBoxShape, btSphereShape, btCapsuleShape (X/Y/Z); btEmptyAlgorithm for every other X. A convex X takes
   /// both roles like ours: its surface points (sampled once per size, convexPointSpacingCells) against our
   /// field, and our shell against its exact analytic field (BoxField, SphereField, CapsuleField). The
-  /// create functions are owned by this object: keep it alive as long as the dispatcher.
+  /// create functions are owned by this object: keep it alive as long as the dispatcher (registerSdfccdAlgorithms()
+  /// does this for you).
   void registerWith(btCollisionDispatcher& dispatcher);
 
   /// btActionInterface: clamping and impulses after integrateTransforms (see the file comment).
