@@ -47,6 +47,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -111,6 +112,19 @@ struct SdfccdContactSettings {
   int shadowLinearEvery = 0;
 };
 
+/// One body's penalty parameters (penalty mode), overriding the world's SdfccdContactSettings::penalty; an unset
+/// field keeps the world's value. A pair combines its two bodies' values (a body without an override brings the
+/// world's): stiffnesses like two springs in series, normalised so that equal values give that value
+/// (2 a b / (a + b)); damping ratios and per-point damping by their mean. A pair where neither body has an
+/// override uses the world's settings unchanged. The shell's density is the model's (BodyModelSettings::points).
+struct SdfccdBodyContact {
+  std::optional<double> stiffness;         ///< N/m per point (PenaltySettings::stiffness), >= 0
+  std::optional<double> stiffnessPerArea;  ///< N/m^3 (PenaltySettings::stiffnessPerArea; 0: per-point law), >= 0
+  std::optional<double> damping;           ///< N s/m per point (PenaltySettings::damping), >= 0
+  std::optional<double> dampingRatio;      ///< zeta in [0, 2] (PenaltySettings::dampingRatio); replaces the
+                                           ///< restitution-derived ratio for the pair
+};
+
 /// One (shell body, field body) role of a pair over the last step: the contact report.
 struct SdfccdPairContact {
   const btCollisionObject* shellObject = nullptr;
@@ -171,6 +185,14 @@ class SdfccdContactSystem : public btActionInterface {
   /// does this for you).
   void registerWith(btCollisionDispatcher& dispatcher);
 
+  /// Per-body penalty parameters (see SdfccdBodyContact), taking effect at the next step. The body is a key only
+  /// (not owned, never dereferenced): clear its entry when the body is destroyed, or a new body at its address
+  /// inherits it. Throws sdfccd::Error on a null body or bad values.
+  void setBodyContact(const btCollisionObject* body, const SdfccdBodyContact& contact);
+  void clearBodyContact(const btCollisionObject* body);
+  /// The body's override, or null.
+  const SdfccdBodyContact* bodyContact(const btCollisionObject* body) const;
+
   /// btActionInterface: clamping and impulses after integrateTransforms (see the file comment).
   void updateAction(btCollisionWorld* world, btScalar timeStep) override;
   void debugDraw(btIDebugDraw*) override {}
@@ -218,6 +240,8 @@ class SdfccdContactSystem : public btActionInterface {
   /// Per-area law: adds this role's stiffness and damping (m_scratch.coefficients) to its bodies' next load.
   void addContactLoad(const Record& record, double roleScale);
   static ImpactBody impactBody(const BodyStep& body);
+  /// The world's penalty settings with the two bodies' overrides (setBodyContact) combined.
+  PenaltySettings combinedPenalty(const btCollisionObject* a, const btCollisionObject* b) const;
   static void setVelocities(const BodyStep& body, const ImpactBody& impact);
   /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
   const PointTree& convexShellTree(const btCollisionShape* shape, double fieldCellSize);
@@ -235,7 +259,9 @@ class SdfccdContactSystem : public btActionInterface {
 
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
-  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
+  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;
+  std::unordered_map<const btCollisionObject*, SdfccdBodyContact>
+      m_bodyContacts;  // setBodyContact  // by shape type, sizes, spacing
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
