@@ -125,7 +125,9 @@ void releaseSdfccdAlgorithms(btDiscreteDynamicsWorld* world) {
   world->removeAction(released.system.get());
   ForgetOurAlgorithms forget(dispatcher);
   world->getPairCache()->processAllOverlappingPairs(&forget, dispatcher);
-  // No entry may keep pointing at the system's create functions: btEmptyAlgorithm's (one, never freed).
+  // No entry may keep pointing at the system's create functions: btEmptyAlgorithm's (one, never freed). These
+  // are the entries SdfccdContactSystem::registerWith sets (every pair involving our type, both orders, both
+  // query types); an entry it set beyond them would have to be reset here too.
   static btEmptyAlgorithm::CreateFunc empty;
   for (int other = 0; other < MAX_BROADPHASE_COLLISION_TYPES; ++other) {
     dispatcher->registerCollisionCreateFunc(CUSTOM_CONCAVE_SHAPE_TYPE, other, &empty);
