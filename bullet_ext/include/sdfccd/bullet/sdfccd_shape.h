@@ -28,8 +28,11 @@
 /// Bullet's own per-triangle test (sdfccd_shape_queries.cpp). The hits are the triangle mesh's: same hit
 /// fraction, the triangle's normal (flipped towards the ray's start as Bullet does), the triangle's index in
 /// LocalShapeInfo::m_triangleIndex (part 0), Bullet's flags honoured. A ray starting inside reports where it
-/// leaves the surface, as for a btBvhTriangleMeshShape. Cost: close to a btBvhTriangleMeshShape of the same
-/// mesh (`sdfccd bench queries`). Any other triangle callback gets every triangle overlapping its box.
+/// leaves the surface, as for a btBvhTriangleMeshShape; an all-hits ray callback sees every crossing once. Sweeps
+/// report the closest hit (Bullet's convex-cast callback never lowers its m_hitFraction, so the shape runs
+/// Bullet's per-triangle cast itself to stop there; farther hits are not reported). Cost: at most that of a
+/// btBvhTriangleMeshShape of the same mesh (`sdfccd bench queries`). Any other triangle callback gets every
+/// triangle overlapping its box.
 ///
 /// Ownership: the shape shares the model (std::shared_ptr); the user owns the shape and must keep it alive as
 /// long as a btCollisionObject uses it (Bullet's rule for every shape). The query tables are built on the first
