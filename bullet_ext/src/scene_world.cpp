@@ -179,9 +179,8 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   m_models = buildSceneModels(m_scene, modelSettings);
 
   // Penalty mode answers its contacts itself: Bullet's default solver, which sees none of them, as before.
-  m_bullet = std::make_unique<SceneWorldBullet>(m_scene.contact.mode == SdfccdContactMode::Solver
-                                                    ? m_scene.contact.solver
-                                                    : ContactSolver::SequentialImpulse);
+  m_bullet = std::make_unique<SceneWorldBullet>(
+      m_scene.contact.mode == SdfccdContactMode::Solver ? m_scene.contact.solver : ContactSolver::SequentialImpulse);
   m_world = &m_bullet->world;
   m_world->setGravity(m_scene.has("gravity") ? toBt(m_scene.gravity) : btVector3(0, 0, 0));
   SdfccdContactSettings contactSettings = contactSettingsFor(m_scene);

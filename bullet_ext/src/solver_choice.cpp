@@ -1,11 +1,11 @@
 /// @file
 /// @brief makeContactSolver and configureContactSolver (see sdfccd/bullet/contact_solver.h).
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
 #include <BulletDynamics/ConstraintSolver/btNNCGConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
 #include <BulletDynamics/MLCPSolvers/btMLCPSolver.h>
-#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include "sdfccd/bullet/contact_solver.h"
 
@@ -55,8 +55,8 @@ class BoundedMlcpSolver : private DantzigHolder, public btMLCPSolver {
  private:
   /// An upper bound of the island's rows: each manifold point gives a contact row and its friction rows, each
   /// joint at most 6 rows.
-  static int estimatedRows(btPersistentManifold** manifolds, int numManifolds, btTypedConstraint**,
-                           int numConstraints, const btContactSolverInfo& info) {
+  static int estimatedRows(btPersistentManifold** manifolds, int numManifolds, btTypedConstraint**, int numConstraints,
+                           const btContactSolverInfo& info) {
     const int perPoint = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 3 : 2;
     int rows = 6 * numConstraints;
     for (int m = 0; m < numManifolds; ++m) rows += perPoint * manifolds[m]->getNumContacts();

@@ -214,8 +214,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.checkObject(c, "contact");
     r.checkKeys(c,
                 {"model", "stiffness", "stiffness_per_area", "damping", "damping_ratio", "friction", "friction_model",
-                 "subintervals", "toi_clamp", "toi_depth_cells", "tree", "force_timing", "direction", "mode",
-                 "solver"},
+                 "subintervals", "toi_clamp", "toi_depth_cells", "tree", "force_timing", "direction", "mode", "solver"},
                 "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
