@@ -143,7 +143,7 @@ TEST(SolverTextbook, BulletOwnBoxesStandWithMlcpShort) {
 // / 0.4 / 1.9 mm and 10 kg on 0.1 kg 196 / 173 / 5.7 / 3.4 / 16 mm at 10 / 20 / 30 / 40 / 50 iterations.
 // btNNCGConstraintSolver: 1.9 mm, and the heavy box is thrown 117 m. btMLCPSolver with Dantzig but without the global
 // CFM: 4.9 mm and 11 mm (Dantzig fails on 458 and 1,269 of the 2,400 steps and Bullet falls back to sequential
-// impulse); with the CFM but one friction direction: 1.5 mm and 0.3 mm. Disabled: it documents Bullet, it does not test
+// impulse); with the CFM but one friction direction: 1.8 mm and 0.2 mm. Disabled: it documents Bullet, it does not test
 // sdfccd.
 TEST(SolverTextbook, DISABLED_BulletOwnBoxesStandReference) {
   EXPECT_LT(bulletBoxStandMotion(std::vector<double>(10, 1.0), ContactSolver::SequentialImpulse), 1e-3)
