@@ -32,6 +32,7 @@ class BoundedMlcpSolver : private DantzigHolder, public btMLCPSolver {
                                         int numManifolds, btTypedConstraint** constraints, int numConstraints,
                                         const btContactSolverInfo& info, btIDebugDraw* draw) override {
     m_sequential = estimatedRows(manifolds, numManifolds, constraints, numConstraints, info) > kMlcpMaxRows;
+    ++(m_sequential ? m_counts.sequentialIslands : m_counts.dantzigIslands);
     if (m_sequential) {
       return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlySetup(
           bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, draw);
@@ -52,6 +53,13 @@ class BoundedMlcpSolver : private DantzigHolder, public btMLCPSolver {
                                                            numConstraints, info, draw);
   }
 
+ public:
+  MlcpSolverCounts counts() const {
+    MlcpSolverCounts c = m_counts;
+    c.dantzigFailures = getNumFallbacks();
+    return c;
+  }
+
  private:
   /// An upper bound of the island's rows: each manifold point gives a contact row and its friction rows, each
   /// joint at most 6 rows.
@@ -64,6 +72,7 @@ class BoundedMlcpSolver : private DantzigHolder, public btMLCPSolver {
   }
 
   bool m_sequential = false;
+  MlcpSolverCounts m_counts;
 };
 
 }  // namespace
@@ -85,6 +94,12 @@ void configureContactSolver(btContactSolverInfo& info, ContactSolver kind) {
   info.m_globalCfm = kMlcpGlobalCfm;
   info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
   info.m_minimumSolverBatchSize = 1;
+}
+
+std::optional<MlcpSolverCounts> mlcpSolverCounts(const btConstraintSolver& solver) {
+  const auto* mlcp = dynamic_cast<const BoundedMlcpSolver*>(&solver);
+  if (mlcp == nullptr) return std::nullopt;
+  return mlcp->counts();
 }
 
 const char* contactSolverName(ContactSolver kind) {

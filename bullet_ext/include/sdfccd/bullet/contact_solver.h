@@ -23,6 +23,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "sdfccd/model/scene_contact.h"
 
@@ -44,6 +45,16 @@ std::unique_ptr<btConstraintSolver> makeContactSolver(ContactSolver kind);
 /// Sets in `info` what `kind` needs (Mlcp: the global CFM, two friction directions, one island per solve; the
 /// others keep Bullet's defaults).
 void configureContactSolver(btContactSolverInfo& info, ContactSolver kind);
+
+/// What an Mlcp solver did so far, island by island (solves, not steps).
+struct MlcpSolverCounts {
+  long dantzigIslands = 0;     ///< islands answered by Dantzig (including those where it failed)
+  long dantzigFailures = 0;    ///< of those, islands where Dantzig failed and Bullet fell back to sequential impulse
+  long sequentialIslands = 0;  ///< islands above kMlcpMaxRows, answered by sequential impulse
+};
+
+/// The counts of a solver made by makeContactSolver(ContactSolver::Mlcp); nullopt for any other solver.
+std::optional<MlcpSolverCounts> mlcpSolverCounts(const btConstraintSolver& solver);
 
 /// "mlcp", "sequential_impulse" or "nncg" (the scene key's values).
 const char* contactSolverName(ContactSolver kind);
