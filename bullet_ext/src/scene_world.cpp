@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bullet_conversions.h"
+#include "sdfccd/bullet/contact_solver.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
 #include "sdfccd/fnv1a.h"
@@ -17,13 +18,17 @@
 
 namespace sdfccd {
 
-/// Bullet's objects, owned together and destroyed in the right order.
+/// Bullet's objects, owned together and destroyed in the right order. The constraint solver is the scene's
+/// contact.solver (contact_solver.h).
 struct SceneWorldBullet {
+  explicit SceneWorldBullet(ContactSolver kind) : solver(makeContactSolver(kind)) {
+    configureContactSolver(world.getSolverInfo(), kind);
+  }
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::unique_ptr<btConstraintSolver> solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, solver.get(), &configuration};
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
   ~SceneWorldBullet() {
@@ -163,6 +168,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   if (settings.timeOfImpactClamp) m_scene.contact.timeOfImpactClamp = *settings.timeOfImpactClamp;
   if (settings.useTree) m_scene.contact.useTree = *settings.useTree;
   if (settings.forceTiming) m_scene.contact.forceTiming = *settings.forceTiming;
+  if (settings.solver) m_scene.contact.solver = *settings.solver;
   checkSceneState(m_scene);
 
   // Models: one per distinct mesh + parameters.
@@ -172,7 +178,9 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   modelSettings.progress = settings.buildProgress;
   m_models = buildSceneModels(m_scene, modelSettings);
 
-  m_bullet = std::make_unique<SceneWorldBullet>();
+  // Penalty mode answers its contacts itself: Bullet's default solver, which sees none of them, as before.
+  m_bullet = std::make_unique<SceneWorldBullet>(
+      m_scene.contact.mode == SdfccdContactMode::Solver ? m_scene.contact.solver : ContactSolver::SequentialImpulse);
   m_world = &m_bullet->world;
   m_world->setGravity(m_scene.has("gravity") ? toBt(m_scene.gravity) : btVector3(0, 0, 0));
   SdfccdContactSettings contactSettings = contactSettingsFor(m_scene);

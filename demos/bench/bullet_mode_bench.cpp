@@ -75,14 +75,16 @@ BenchScene loadBenchScene(const ModeBenchOptions& o, const std::string& label, c
 }
 
 /// Our world in `mode` at `dt`; `contact`: the scene's contact keys (nullopt: the project's defaults).
+/// `solver`: Bullet's constraint solver in solver mode (nullopt: the scene's contact.solver).
 Contender oursContender(const ModeBenchOptions& o, const BenchScene& b, const std::string& name, SdfccdContactMode mode,
-                        double dt, bool keepSceneContact) {
+                        double dt, bool keepSceneContact, std::optional<ContactSolver> solver = std::nullopt) {
   Scene scene = b.scene;
   if (!keepSceneContact) scene.contact = SceneContact{};  // a new world's defaults
   scene.contact.mode = mode;
   scene.timestep = dt;
   SceneWorldSettings settings;
   settings.cacheDir = o.cache;
+  settings.solver = solver;
   auto world = std::make_shared<SceneWorld>(scene, settings);
   Contender c;
   c.name = name;
@@ -228,6 +230,9 @@ void timeScene(const ModeBenchOptions& o, const BenchScene& b, bool withShipped,
   }
   contenders.emplace_back(
       oursContender(o, b, "solver (defaults), SdfccdShape", SdfccdContactMode::Solver, kSolverStep, false), seconds);
+  contenders.emplace_back(oursContender(o, b, "solver, sequential_impulse", SdfccdContactMode::Solver, kSolverStep,
+                                        false, ContactSolver::SequentialImpulse),
+                          seconds);
   contenders.emplace_back(peerContender(b, "Bullet btGImpactMeshShape", PeerShape::GImpact, kSolverStep),
                           gimpactSeconds);
   contenders.emplace_back(peerContender(b, "Bullet convex hull / btBoxShape", PeerShape::ConvexHull, kSolverStep),

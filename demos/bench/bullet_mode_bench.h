@@ -5,7 +5,9 @@
 /// @details Contenders, each in its own world, the same scene (bodies, masses, inertia, poses, ground, sleeping):
 /// - penalty: SdfccdShape, `contact.mode: penalty` with the project's contact defaults (what a new world gets), at
 ///   1 ms; on the bunnies also drop-bunnies as shipped (the paper's per-point stiffness and shell normal);
-/// - solver: SdfccdShape, `contact.mode: solver` with the defaults, at 1/240 s (Bullet's usual fixed step);
+/// - solver: SdfccdShape, `contact.mode: solver` with the defaults, at 1/240 s (Bullet's usual fixed step), and the
+///   same with `contact.solver: sequential_impulse` (Bullet's default solver instead of the default MLCP solver: what
+///   the exact solver costs);
 /// - GImpact: btGImpactMeshShape of the same meshes, at 1/240 s (gimpact_peer.h);
 /// - convex: btConvexHullShape of the mesh's hull vertices, btBoxShape for boxes (Bullet's fast path) at 1/240 s.
 /// Step time is thread CPU time of the steps alone (one thread); it is also given per simulated second, so that

@@ -24,6 +24,7 @@
 #include "cli/csv_fields.h"
 #include "cli/progress_bar.h"
 #include "cli/run_frame_renderer.h"
+#include "sdfccd/bullet/contact_solver.h"
 #include "sdfccd/bullet/scene_world.h"
 #include "sdfccd/error.h"
 #include "sdfccd/model/model_cache_folder.h"
@@ -223,7 +224,16 @@ int runSimulate(const SimulateOptions& o) {
   summary["frames"] = done;
   summary["record_every"] = o.recordEvery;
   summary["timestep"] = world->timestep();
-  summary["model"] = world->scene().contact.model == PenaltyModel::Continuous ? "continuous" : "discrete";
+  // The mode decides who answers the contacts; the model (continuous/discrete) exists in penalty mode only, the
+  // constraint solver (contact.solver) in solver mode only.
+  const SceneContact& contact = world->scene().contact;
+  const bool solverMode = contact.mode == SdfccdContactMode::Solver;
+  summary["mode"] = solverMode ? "solver" : "penalty";
+  if (solverMode) {
+    summary["solver"] = contactSolverName(contact.solver);
+  } else {
+    summary["model"] = contact.model == PenaltyModel::Continuous ? "continuous" : "discrete";
+  }
   summary["stiffness"] = world->scene().contact.stiffness;
   summary["time_of_impact_clamp"] = world->scene().contact.timeOfImpactClamp;
   summary["point_tree"] = world->scene().contact.useTree;
@@ -247,9 +257,10 @@ int runSimulate(const SimulateOptions& o) {
   writeOutputFile(outDir + "/summary.json", summary.dump(2) + "\n");
   runFolder.keep();
 
-  std::printf("%s: %d frames of %g s, %d bodies, %s model, effects [%s]\n", shownName(scene.name).c_str(), done,
-              world->timestep(), world->bodyCount(), summary["model"].get<std::string>().c_str(),
-              scene.effectList().c_str());
+  const std::string how = solverMode ? "solver mode (" + summary["solver"].get<std::string>() + " solver)"
+                                     : "penalty mode, " + summary["model"].get<std::string>() + " model";
+  std::printf("%s: %d frames of %g s, %d bodies, %s, effects [%s]\n", shownName(scene.name).c_str(), done,
+              world->timestep(), world->bodyCount(), how.c_str(), scene.effectList().c_str());
   std::printf(
       "wall %.2f s (build %.2f s, steps %.2f s, CCD %.2f s); max penetration %.3f cells; %zu tunnelled; "
       "%s; final kinetic energy %.6g J\n",

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <memory>
 
+#include "sdfccd/bullet/contact_solver.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -20,7 +21,11 @@ class CompoundOnGround {
   /// centre starts at height `startHeight` above the ground y = 0.
   CompoundOnGround(const SdfccdContactSettings& settings, double half, const btTransform& left,
                    const btTransform& right, double startHeight, double gravity)
-      : model_(buildModel(half)), leftShape_(model_), rightShape_(model_) {
+      : solver_(makeContactSolver(solverFor(settings))),
+        model_(buildModel(half)),
+        leftShape_(model_),
+        rightShape_(model_) {
+    configureContactSolver(world_.getSolverInfo(), solverFor(settings));
     world_.setGravity(btVector3(0, btScalar(-gravity), 0));
     contacts_ = registerSdfccdAlgorithms(&world_, settings);
     compound_.addChildShape(left, &leftShape_);
@@ -57,6 +62,9 @@ class CompoundOnGround {
   }
 
  private:
+  static ContactSolver solverFor(const SdfccdContactSettings& settings) {
+    return settings.mode == SdfccdContactMode::Solver ? ContactSolver::Mlcp : ContactSolver::SequentialImpulse;
+  }
   static std::shared_ptr<const BodyModel> buildModel(double half) {
     BodyModelSettings ms;
     ms.resolution = 32;
@@ -67,8 +75,9 @@ class CompoundOnGround {
   btDefaultCollisionConfiguration configuration_;
   btCollisionDispatcher dispatcher_{&configuration_};
   btDbvtBroadphase broadphase_;
-  btSequentialImpulseConstraintSolver solver_;
-  btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
+  // Solver mode gets the solver a Bullet user should build (contact_solver.h); penalty mode Bullet's default.
+  std::unique_ptr<btConstraintSolver> solver_;
+  btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, solver_.get(), &configuration_};
   std::shared_ptr<const BodyModel> model_;
   SdfccdShape leftShape_, rightShape_;
   btCompoundShape compound_;

@@ -77,6 +77,11 @@ TEST(SceneReader, ReadsContactCameraAndEffects) {
   EXPECT_EQ(s.contact.model, PenaltyModel::Discrete);
   EXPECT_EQ(s.contact.forceTiming, ForceTiming::NextStep);
   EXPECT_EQ(s.contact.direction, PenaltyDirection::FieldGradient);
+  EXPECT_EQ(s.contact.solver, ContactSolver::Mlcp);  // the default (used in solver mode only)
+  EXPECT_EQ(sceneFromText(withBody(R"("contact": { "solver": "sequential_impulse" })")).contact.solver,
+            ContactSolver::SequentialImpulse);
+  EXPECT_EQ(sceneFromText(withBody(R"("contact": { "mode": "solver", "solver": "nncg" })")).contact.solver,
+            ContactSolver::Nncg);
   ASSERT_TRUE(s.camera.has_value());
   EXPECT_EQ(s.camera->eye, Vec3(0, 1, 2));
   EXPECT_EQ(s.camera->fovDegrees, 40.0);  // the renderer's default
@@ -160,6 +165,8 @@ TEST(SceneReader, AbsurdAndConflictingSettingsFailNamingTheKey) {
       {contact("\"damping\": 5, \"damping_ratio\": 1"), "contact.damping and contact.damping_ratio"},
       {contact("\"model\": \"discrete\", \"mode\": \"solver\""), "contact.model discrete applies to penalty mode"},
       {contact("\"mode\": \"implicit\""), "contact.mode"},
+      {contact("\"solver\": \"dantzig\""), "contact.solver must be mlcp, sequential_impulse or nncg"},
+      {contact("\"mode\": \"penalty\", \"solver\": \"mlcp\""), "contact.solver applies to solver mode only"},
       {contact("\"toi_depth_cells\": -1"), "contact.toi_depth_cells"},
       {contact("\"toi_depth_cells\": 1e6"), "contact.toi_depth_cells"},
       // Absurd magnitudes (finding 6's reproductions and their neighbours).

@@ -100,6 +100,25 @@ SceneBody readBody(const Reader& r, const Json& j, const std::string& where, int
   return b;
 }
 
+/// contact.solver: Bullet's constraint solver in solver mode. Penalty mode answers its contacts itself, so naming a
+/// solver there is a mistake worth a line (as contact.model discrete is in solver mode).
+void readContactSolver(const Reader& r, const Json& c, SceneContact& contact) {
+  const std::string solver = r.string(c, "solver", "contact");
+  if (solver.empty()) return;  // absent: SceneContact's default (mlcp)
+  if (solver == "mlcp") {
+    contact.solver = ContactSolver::Mlcp;
+  } else if (solver == "sequential_impulse") {
+    contact.solver = ContactSolver::SequentialImpulse;
+  } else if (solver == "nncg") {
+    contact.solver = ContactSolver::Nncg;
+  } else {
+    r.fail("contact.solver", "must be mlcp, sequential_impulse or nncg (got '" + solver + "')");
+  }
+  if (contact.mode != SdfccdContactMode::Solver) {
+    r.fail("contact.solver", "applies to solver mode only (contact.mode is penalty)");
+  }
+}
+
 }  // namespace
 
 SceneGuard detail::readGuard(const JsonReader& r, const Json& g) {
@@ -195,7 +214,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
     r.checkObject(c, "contact");
     r.checkKeys(c,
                 {"model", "stiffness", "stiffness_per_area", "damping", "damping_ratio", "friction", "friction_model",
-                 "subintervals", "toi_clamp", "toi_depth_cells", "tree", "force_timing", "direction", "mode"},
+                 "subintervals", "toi_clamp", "toi_depth_cells", "tree", "force_timing", "direction", "mode", "solver"},
                 "contact");
     const std::string model = r.string(c, "model", "contact");
     if (model == "discrete") {
@@ -267,6 +286,7 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
                                              "set \"mode\": \"penalty\")"
                                            : "discrete applies to penalty mode only (contact.mode is solver)");
     }
+    readContactSolver(r, c, s.contact);
   }
   if (root.contains("guard")) s.guard = detail::readGuard(r, root.at("guard"));
   if (!root.contains("bodies") || !root.at("bodies").is_array() || root.at("bodies").empty()) {

@@ -44,6 +44,7 @@ struct SceneWorldSettings {
   std::optional<bool> timeOfImpactClamp;   ///< overrides contact.toi_clamp
   std::optional<bool> useTree;             ///< overrides contact.tree
   std::optional<ForceTiming> forceTiming;  ///< overrides contact.force_timing
+  std::optional<ContactSolver> solver;     ///< overrides contact.solver (solver mode)
   int shadowLinearEvery = 0;               ///< see SdfccdContactSettings::shadowLinearEvery
   bool allowSleeping = true;               ///< false: bodies never deactivate (benchmarks time every frame)
   ProgressCallback buildProgress;          ///< fraction of the model builds done

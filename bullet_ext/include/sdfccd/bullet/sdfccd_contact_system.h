@@ -301,7 +301,9 @@ class SdfccdContactSystem : public btActionInterface {
 /// Creates a contact system, registers its algorithms with `dispatcher` (every pair involving our shape type,
 /// both orders, contacts and closest points) and returns it. Add it to the dynamics world with
 /// `world.addAction(system.get())` — or use the overload below, which does both. Throws sdfccd::Error on a null
-/// or multi-threaded dispatcher and on bad settings.
+/// or multi-threaded dispatcher and on bad settings. In solver mode (the default) build the world with the
+/// constraint solver of sdfccd/bullet/contact_solver.h (makeContactSolver, configureContactSolver): Bullet's default
+/// sequential-impulse solver lets stacks and heavy-on-light pairs creep.
 std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
                                                               const SdfccdContactSettings& settings = {});
 /// Registers with the world's dispatcher (must be a btCollisionDispatcher, not the Mt one) and adds the system as
