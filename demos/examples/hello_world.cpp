@@ -7,6 +7,7 @@
 //   ./build-examples/hello_world [path/to/bunny.off]
 #include <btBulletDynamicsCommon.h>
 #include <sdfccd/bullet/bullet_pose.h>
+#include <sdfccd/bullet/contact_solver.h>
 #include <sdfccd/bullet/sdfccd_contact_system.h>
 #include <sdfccd/bullet/sdfccd_shape.h>
 
@@ -25,8 +26,11 @@ int main(int argc, char** argv) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  // Solver mode (the default) hands the contacts to Bullet's constraint solver: the exact MLCP one keeps stacks
+  // and heavy-on-light pairs from creeping (sdfccd/bullet/contact_solver.h).
+  auto solver = sdfccd::makeContactSolver(sdfccd::ContactSolver::Mlcp);
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &configuration);
+  sdfccd::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
   world.setGravity(btVector3(0, -9.81f, 0));
   sdfccd::registerSdfccdAlgorithms(&world);
 

@@ -3,6 +3,7 @@
 // with a bunny, a box and a ground plane: the bunny must come to rest on the ground).
 #include <btBulletDynamicsCommon.h>
 #include <sdfccd/bullet/bullet_pose.h>
+#include <sdfccd/bullet/contact_solver.h>
 #include <sdfccd/bullet/sdfccd_contact_system.h>
 #include <sdfccd/bullet/sdfccd_shape.h>
 #include <sdfccd/field/sdf_grid.h>
@@ -31,8 +32,11 @@ bool bunnyRestsOnTheGround(const std::string& meshPath) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  // Solver mode (the default) hands the contacts to Bullet's constraint solver: the exact MLCP one keeps stacks
+  // and heavy-on-light pairs from creeping (sdfccd/bullet/contact_solver.h).
+  auto solver = sdfccd::makeContactSolver(sdfccd::ContactSolver::Mlcp);
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &configuration);
+  sdfccd::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
   world.setGravity(btVector3(0, -9.81f, 0));
   sdfccd::registerSdfccdAlgorithms(&world);  // the registration keeps the contact system alive
   btStaticPlaneShape groundShape(btVector3(0, 1, 0), 0);
