@@ -44,13 +44,17 @@
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
+#include <optional>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "sdfccd/ccd/rigid_ccd.h"
+#include "sdfccd/field/polytope_fields.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/response/contact_mode.h"
 #include "sdfccd/response/contact_query.h"
@@ -78,6 +82,12 @@ struct btDispatcherInfo;
 namespace sdfccd {
 
 class SdfccdShape;
+namespace detail {
+class ConvexShapeCache;
+}
+
+/// Receives one line of text: an unsupported pair's announcement (SdfccdContactSystem::setLogCallback).
+using SdfccdLogCallback = std::function<void(const std::string& line)>;
 
 struct SdfccdSolverPair;
 
@@ -180,6 +190,10 @@ class SdfccdContactSystem : public btActionInterface {
   double lastStepMaxPenetrationCells() const { return m_lastMaxPenetrationCells; }
   int lastStepClamps() const { return m_lastClamps; }
   const SdfccdContactStatistics& statistics() const { return m_stats; }
+  /// Where the one-line announcements go (an unsupported pair of shape types, once per type pair and system);
+  /// stderr by default; an empty callback silences them. The pairs are counted in
+  /// SdfccdContactStatistics::unsupportedPairs either way.
+  void setLogCallback(SdfccdLogCallback callback) { m_log = std::move(callback); }
 
   /// Called by SdfccdCollisionAlgorithm. `closestPointsOnly`: a contactTest query: report the points inside
   /// at the current poses, change nothing.
@@ -219,6 +233,15 @@ class SdfccdContactSystem : public btActionInterface {
   static void setVelocities(const BodyStep& body, const ImpactBody& impact);
   /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
   const PointTree& convexShellTree(const btCollisionShape* shape, double fieldCellSize);
+  /// The shell of a shape that is not ours (box, sphere, capsule or any other convex shape; cached), spaced for
+  /// a field of `fieldCellSize`; null for a degenerate convex shape (other_shape_roles.cpp).
+  const PointTree* otherShellTree(const btCollisionShape* shape, double fieldCellSize);
+  /// Counts an unsupported pair and announces its shape types once (other_shape_roles.cpp).
+  void reportUnsupported(const btCollisionShape* shape0, const btCollisionShape* shape1);
+  /// A triangle mesh's role as field: its triangles within `pad` of the box the shell sweeps over the step
+  /// (relative to the mesh), in the mesh's frame; nothing when there are none (other_shape_roles.cpp).
+  std::optional<TriangleSetField> meshFieldNear(const Role& role, const btCollisionShape* shellShape,
+                                                const btCollisionShape* meshShape, double pad) const;
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
@@ -234,6 +257,9 @@ class SdfccdContactSystem : public btActionInterface {
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
   std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
+  std::unique_ptr<detail::ConvexShapeCache> m_convexShapes;                   // other convex shapes' fields and shells
+  SdfccdLogCallback m_log;                                                    // announcements (stderr unless set)
+  std::set<std::pair<int, int>> m_announcedPairs;                             // shape type pairs announced unsupported
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;

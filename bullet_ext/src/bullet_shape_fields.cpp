@@ -1,0 +1,277 @@
+/// @file
+/// @brief Bullet's other shapes as fields and shells (see bullet_shape_fields.h): classification, the convex
+/// hull of a convex shape's support points, its surface points, and the triangles of a mesh near a body.
+#include "bullet_shape_fields.h"
+
+#include <BulletCollision/BroadphaseCollision/btBroadphaseProxy.h>
+#include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionShapes/btConcaveShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/CollisionShapes/btConvexPointCloudShape.h>
+#include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleCallback.h>
+#include <LinearMath/btConvexHullComputer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include "bullet_conversions.h"
+#include "convex_fields.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/fnv1a.h"
+
+namespace sdfccd::detail {
+namespace {
+
+constexpr int kSupportDirections = 512;  // support-function samples of a shape without its own point list
+
+/// Directions spread evenly over the sphere (a Fibonacci spiral), the same every call.
+const std::vector<Vec3>& supportDirections() {
+  static const std::vector<Vec3> directions = [] {
+    std::vector<Vec3> out;
+    const double golden = M_PI * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < kSupportDirections; ++i) {
+      const double y = 1.0 - 2.0 * (i + 0.5) / kSupportDirections;
+      const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
+      out.emplace_back(r * std::cos(golden * i), y, r * std::sin(golden * i));
+    }
+    // The six axis directions too: a cylinder's or cone's caps and tips are then exact.
+    for (int axis = 0; axis < 3; ++axis) {
+      out.push_back(Vec3::Unit(axis));
+      out.push_back(-Vec3::Unit(axis));
+    }
+    return out;
+  }();
+  return directions;
+}
+
+/// The shape's margin-free support points (scaling applied): its own points where it has a list.
+std::vector<Vec3> supportPoints(const btConvexShape* shape) {
+  std::vector<Vec3> points;
+  if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+    const auto* hull = static_cast<const btConvexHullShape*>(shape);
+    for (int i = 0; i < hull->getNumPoints(); ++i) points.push_back(toVec3(hull->getScaledPoint(i)));
+  } else if (shape->getShapeType() == CONVEX_POINT_CLOUD_SHAPE_PROXYTYPE) {
+    const auto* cloud = static_cast<const btConvexPointCloudShape*>(shape);
+    for (int i = 0; i < cloud->getNumPoints(); ++i) points.push_back(toVec3(cloud->getScaledPoint(i)));
+  } else {
+    for (const Vec3& d : supportDirections()) {
+      points.push_back(toVec3(shape->localGetSupportingVertexWithoutMargin(toBt(d))));
+    }
+  }
+  return points;
+}
+
+/// The convex hull of `points` as outward triangles; false when it has no volume.
+bool hullTriangles(const std::vector<Vec3>& points, std::vector<Vec3>& outVertices,
+                   std::vector<TriangleIndices>& outTriangles) {
+  std::vector<double> coords;
+  for (const Vec3& p : points) coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+  btConvexHullComputer hull;
+  hull.compute(coords.data(), 3 * static_cast<int>(sizeof(double)), static_cast<int>(points.size()), 0, 0);
+  if (hull.vertices.size() < 4 || hull.faces.size() < 4) return false;
+  outVertices.clear();
+  outTriangles.clear();
+  Vec3 centre = Vec3::Zero();
+  for (int i = 0; i < hull.vertices.size(); ++i) {
+    outVertices.push_back(toVec3(hull.vertices[i]));
+    centre += outVertices.back();
+  }
+  centre /= double(outVertices.size());
+  for (int f = 0; f < hull.faces.size(); ++f) {
+    std::vector<int> loop;
+    const btConvexHullComputer::Edge* first = &hull.edges[hull.faces[f]];
+    const btConvexHullComputer::Edge* e = first;
+    do {
+      loop.push_back(e->getTargetVertex());
+      e = e->getNextEdgeOfFace();
+    } while (e != first && loop.size() < 100000);
+    for (std::size_t k = 1; k + 1 < loop.size(); ++k) {  // a fan over the (convex, planar) face
+      TriangleIndices t{loop[0], loop[k], loop[k + 1]};
+      const Vec3& a = outVertices[static_cast<std::size_t>(t[0])];
+      const Vec3 n =
+          (outVertices[static_cast<std::size_t>(t[1])] - a).cross(outVertices[static_cast<std::size_t>(t[2])] - a);
+      if (!(n.norm() > 1e-14 * (1.0 + a.squaredNorm()))) continue;
+      if (n.dot(a - centre) < 0.0) std::swap(t[1], t[2]);  // outward, whatever the computer's winding
+      outTriangles.push_back(t);
+    }
+  }
+  // No volume: every vertex on one plane.
+  const Vec3& a = outVertices[static_cast<std::size_t>(outTriangles.empty() ? 0 : outTriangles[0][0])];
+  if (outTriangles.size() < 4) return false;
+  const Vec3 n = (outVertices[static_cast<std::size_t>(outTriangles[0][1])] - a)
+                     .cross(outVertices[static_cast<std::size_t>(outTriangles[0][2])] - a)
+                     .normalized();
+  double thickness = 0.0;
+  for (const Vec3& v : outVertices) thickness = std::max(thickness, std::abs(n.dot(v - a)));
+  return thickness > 1e-9 * (1.0 + a.norm());
+}
+
+/// Points on the triangles at about `spacing`, pushed out by `radius` along their normals (the face's, or the
+/// average of the faces they are shared by on an edge or at a vertex), each with area A / N.
+PointShell sampleGrownSurface(const ConvexPolytopeField& field, double spacing) {
+  const auto& v = field.vertices();
+  std::unordered_map<std::uint64_t, std::size_t> seen;  // quantized position -> point
+  PointShell shell;
+  std::vector<Vec3> normalSums;
+  double area = 0.0;
+  const double quantum = spacing * 1e-4;
+  for (const TriangleIndices& t : field.triangles()) {
+    const Vec3& a = v[static_cast<std::size_t>(t[0])];
+    const Vec3& b = v[static_cast<std::size_t>(t[1])];
+    const Vec3& c = v[static_cast<std::size_t>(t[2])];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    area += 0.5 * (b - a).cross(c - a).norm();
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int steps = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
+    for (int i = 0; i <= steps; ++i) {
+      for (int j = 0; i + j <= steps; ++j) {
+        const Vec3 p = a + (b - a) * (double(i) / steps) + (c - a) * (double(j) / steps);
+        const Vec3i q = (p / quantum).array().round().cast<int>();
+        const std::uint64_t key = fnv1a(&q, sizeof(q));
+        const auto found = seen.find(key);
+        if (found != seen.end()) {
+          normalSums[found->second] += n;
+          continue;
+        }
+        seen.emplace(key, shell.positions.size());
+        shell.positions.push_back(p);
+        normalSums.push_back(n);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < shell.positions.size(); ++i) {
+    shell.normals.push_back(normalSums[i].normalized());
+    shell.positions[i] += field.radius() * shell.normals.back();
+  }
+  assignUniformAreas(shell, area);
+  return shell;
+}
+
+/// Collects the triangles processAllTriangles hands over (three vertices each, shape frame).
+class TriangleCollector : public btTriangleCallback {
+ public:
+  void processTriangle(btVector3* triangle, int, int) override {
+    const int base = static_cast<int>(vertices.size());
+    for (int i = 0; i < 3; ++i) vertices.push_back(toVec3(triangle[i]));
+    triangles.push_back({base, base + 1, base + 2});
+  }
+  std::vector<Vec3> vertices;
+  std::vector<TriangleIndices> triangles;
+};
+
+}  // namespace
+
+ShapeKind shapeKind(const btCollisionShape* shape) {
+  if (isSdfccdShape(shape)) return ShapeKind::Ours;
+  const int type = shape->getShapeType();
+  if (type == STATIC_PLANE_PROXYTYPE) return ShapeKind::Plane;
+  if (isSupportedConvexType(type)) return ShapeKind::AnalyticConvex;
+  if (shape->isConvex()) return ShapeKind::Convex;
+  switch (type) {
+    case TRIANGLE_MESH_SHAPE_PROXYTYPE:
+    case SCALED_TRIANGLE_MESH_SHAPE_PROXYTYPE:
+    case TERRAIN_SHAPE_PROXYTYPE:
+    case GIMPACT_SHAPE_PROXYTYPE:
+    case MULTIMATERIAL_TRIANGLE_MESH_PROXYTYPE:
+      return ShapeKind::Mesh;
+    default:
+      return ShapeKind::Unsupported;
+  }
+}
+
+void registerOurPairs(btCollisionDispatcher& dispatcher, int ours, btCollisionAlgorithmCreateFunc* contacts,
+                      btCollisionAlgorithmCreateFunc* closest, btCollisionAlgorithmCreateFunc* empty) {
+  btCollisionConfiguration* configuration = dispatcher.getCollisionConfiguration();
+  for (int other = 0; other < MAX_BROADPHASE_COLLISION_TYPES; ++other) {
+    btCollisionAlgorithmCreateFunc* forward = contacts;
+    btCollisionAlgorithmCreateFunc* backward = contacts;
+    btCollisionAlgorithmCreateFunc* forwardClosest = closest;
+    btCollisionAlgorithmCreateFunc* backwardClosest = closest;
+    if (other == COMPOUND_SHAPE_PROXYTYPE && configuration != nullptr) {
+      forward = configuration->getCollisionAlgorithmCreateFunc(ours, other);
+      backward = configuration->getCollisionAlgorithmCreateFunc(other, ours);
+      forwardClosest = configuration->getClosestPointsAlgorithmCreateFunc(ours, other);
+      backwardClosest = configuration->getClosestPointsAlgorithmCreateFunc(other, ours);
+    } else if (other == COMPOUND_SHAPE_PROXYTYPE || other == EMPTY_SHAPE_PROXYTYPE) {
+      forward = backward = forwardClosest = backwardClosest = empty;
+    }
+    dispatcher.registerCollisionCreateFunc(ours, other, forward);
+    dispatcher.registerCollisionCreateFunc(other, ours, backward);
+    dispatcher.registerClosestPointsCreateFunc(ours, other, forwardClosest);
+    dispatcher.registerClosestPointsCreateFunc(other, ours, backwardClosest);
+  }
+}
+
+struct ConvexShapeCache::Entry {
+  std::unique_ptr<ConvexPolytopeField> field;                           // null: degenerate hull
+  Box3 box;                                                             // with the margin
+  std::map<std::pair<double, int>, std::unique_ptr<PointTree>> shells;  // by spacing, cap
+};
+
+ConvexShapeCache::ConvexShapeCache() = default;
+ConvexShapeCache::~ConvexShapeCache() = default;
+
+ConvexShapeCache::Entry& ConvexShapeCache::entry(const btConvexShape* shape) {
+  const std::vector<Vec3> points = supportPoints(shape);
+  const double margin = double(shape->getMargin());
+  std::string key(reinterpret_cast<const char*>(points.data()), points.size() * sizeof(Vec3));
+  key.append(reinterpret_cast<const char*>(&margin), sizeof(margin));
+  std::unique_ptr<Entry>& slot = m_entries[key];
+  if (slot) return *slot;
+  slot = std::make_unique<Entry>();
+  std::vector<Vec3> vertices;
+  std::vector<TriangleIndices> triangles;
+  if (hullTriangles(points, vertices, triangles)) {
+    for (const Vec3& p : vertices) slot->box.extend(p);
+    slot->box.min().array() -= margin;
+    slot->box.max().array() += margin;
+    slot->field = std::make_unique<ConvexPolytopeField>(std::move(vertices), std::move(triangles), margin);
+  }
+  return *slot;
+}
+
+const ConvexPolytopeField* ConvexShapeCache::field(const btConvexShape* shape) {
+  return entry(shape).field.get();
+}
+
+double ConvexShapeCache::thinnestExtent(const btConvexShape* shape) {
+  const Entry& e = entry(shape);
+  return e.field ? e.box.sizes().minCoeff() : 0.0;
+}
+
+const PointTree* ConvexShapeCache::shell(const btConvexShape* shape, double spacing, int maxPoints) {
+  Entry& e = entry(shape);
+  if (!e.field) return nullptr;
+  std::unique_ptr<PointTree>& tree = e.shells[{spacing, maxPoints}];
+  if (!tree) {
+    PointShell points = sampleGrownSurface(*e.field, spacing);
+    for (double grown = spacing; points.size() > static_cast<std::size_t>(maxPoints);) {
+      grown *= 1.25;
+      points = sampleGrownSurface(*e.field, grown);
+    }
+    tree = std::make_unique<PointTree>(std::move(points));
+  }
+  return tree.get();
+}
+
+std::optional<TriangleSetField> meshTrianglesInBox(const btCollisionShape* shape, const Box3& boxInShape,
+                                                   double thickness, const Vec3& outside) {
+  TriangleCollector collector;
+  const auto* concave = static_cast<const btConcaveShape*>(shape);
+  concave->processAllTriangles(&collector, toBt(boxInShape.min()), toBt(boxInShape.max()));
+  if (collector.triangles.empty()) return std::nullopt;
+  try {
+    return TriangleSetField(std::move(collector.vertices), std::move(collector.triangles), double(shape->getMargin()),
+                            thickness, outside);
+  } catch (const Error&) {
+    return std::nullopt;  // every triangle in the box has zero area
+  }
+}
+
+}  // namespace sdfccd::detail

@@ -1,0 +1,311 @@
+// Every Bullet shape against ours (issue 15 item 1; bullet_shape_fields.h): cylinders, cones, convex hulls
+// (any btConvexShape through its support points), static triangle meshes and terrain, compounds of them, and
+// the announcement of a pair still unsupported. Answers are analytic: rest heights from the shapes' sizes
+// (Bullet's margin included), no tunnelling through a zero-thickness wall at 20 m/s.
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
+#include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/mesh/procedural_meshes.h"
+
+namespace sdfccd {
+namespace other_shapes_test {
+
+Vec3 asVec3(const btVector3& v) {
+  return Vec3(v.x(), v.y(), v.z());
+}
+
+/// A dynamics world with our algorithms (solver mode by default, or penalty) and owned shapes, bodies, meshes.
+struct ShapesWorld {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::shared_ptr<SdfccdContactSystem> contacts;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  std::vector<std::unique_ptr<btTriangleMesh>> meshes;
+  std::vector<std::vector<float>> heights;
+  std::vector<std::string> log;
+
+  explicit ShapesWorld(SdfccdContactMode mode) {
+    world.setGravity(btVector3(0, btScalar(-9.81), 0));
+    SdfccdContactSettings settings;
+    settings.mode = mode;
+    contacts = registerSdfccdAlgorithms(&world, settings);
+    contacts->setLogCallback([this](const std::string& line) { log.push_back(line); });
+  }
+  ~ShapesWorld() {
+    for (auto& b : bodies) world.removeRigidBody(b.get());
+    world.removeAction(contacts.get());
+  }
+  btRigidBody& add(std::unique_ptr<btCollisionShape> shape, double mass, const Vec3& position) {
+    btVector3 inertia(0, 0, 0);
+    if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
+    btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(), inertia);
+    info.m_startWorldTransform.setIdentity();
+    info.m_startWorldTransform.setOrigin(
+        btVector3(btScalar(position.x()), btScalar(position.y()), btScalar(position.z())));
+    bodies.push_back(std::make_unique<btRigidBody>(info));
+    if (mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+    world.addRigidBody(bodies.back().get());
+    shapes.push_back(std::move(shape));
+    return *bodies.back();
+  }
+  /// A static btBvhTriangleMeshShape of `mesh` (its triangles as they are: one-sided or open).
+  btRigidBody& addStaticMesh(const TriangleMesh& mesh) {
+    meshes.push_back(std::make_unique<btTriangleMesh>());
+    for (const auto& t : mesh.triangles) {
+      auto v = [&](int i) {
+        const Vec3& p = mesh.vertices[static_cast<std::size_t>(i)];
+        return btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z()));
+      };
+      meshes.back()->addTriangle(v(t[0]), v(t[1]), v(t[2]));
+    }
+    return add(std::make_unique<btBvhTriangleMeshShape>(meshes.back().get(), true), 0.0, Vec3::Zero());
+  }
+  void run(int steps, double dt = 1.0 / 240.0) {
+    for (int i = 0; i < steps; ++i) world.stepSimulation(btScalar(dt), 0);
+  }
+};
+
+/// Our box (10 cm cube), its model's cell size (m) and its lowest shell point in the world.
+std::shared_ptr<const BodyModel> smallBox() {
+  static const std::shared_ptr<const BodyModel> model = [] {
+    BodyModelSettings s;
+    s.resolution = 24;
+    s.points = 600;
+    s.threads = 1;
+    return std::shared_ptr<const BodyModel>(BodyModel::buildFromMesh(makeBox(Vec3(0.05, 0.05, 0.05)), s));
+  }();
+  return model;
+}
+
+double lowestShellPoint(const btRigidBody& body, const BodyModel& model) {
+  double lowest = 1e300;
+  for (const Vec3& p : model.shell().positions) {
+    lowest = std::min(
+        lowest, double(body.getWorldTransform()(btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z()))).y()));
+  }
+  return lowest;
+}
+
+/// Our box dropped 3 cm onto the static `ground` body whose top is at `top` comes to rest on it: its lowest
+/// point within a cell plus the solver's margin of the top, at rest, on top.
+void expectBoxRestsOn(ShapesWorld& w, double top, const char* what) {
+  const auto model = smallBox();
+  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(0.01, top + 0.05 + 0.03, -0.01));
+  w.run(360);
+  const double cell = model->cellSize();
+  const double lowest = lowestShellPoint(box, *model);
+  EXPECT_NEAR(lowest, top, cell + 0.002) << what << ": cell " << cell;
+  EXPECT_LT(asVec3(box.getLinearVelocity()).norm(), 0.05) << what;
+  EXPECT_LT(std::hypot(box.getWorldTransform().getOrigin().x() - 0.01, box.getWorldTransform().getOrigin().z() + 0.01),
+            0.03)
+      << what;
+  EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0) << what;
+  EXPECT_TRUE(w.log.empty()) << what;
+}
+
+class OtherShapes : public ::testing::TestWithParam<SdfccdContactMode> {};
+
+// Static cylinders (Y, and X lying on its side) and a cone's base; top heights from their sizes.
+TEST_P(OtherShapes, BoxRestsOnStaticCylinder) {
+  ShapesWorld w(GetParam());
+  w.add(std::make_unique<btCylinderShape>(btVector3(0.3f, 0.05f, 0.3f)), 0.0, Vec3(0, 0, 0));
+  expectBoxRestsOn(w, 0.05, "cylinder Y");
+}
+
+TEST_P(OtherShapes, BoxRestsOnCylinderLyingOnItsSide) {
+  ShapesWorld w(GetParam());
+  // btCylinderShapeX: half extents (half length, radius, radius); its top line is at y = radius.
+  w.add(std::make_unique<btCylinderShapeX>(btVector3(0.3f, 0.2f, 0.2f)), 0.0, Vec3(0, 0, 0));
+  expectBoxRestsOn(w, 0.2, "cylinder X");
+}
+
+TEST_P(OtherShapes, BoxRestsOnUpsideDownConeBase) {
+  ShapesWorld w(GetParam());
+  // A btConeShape points up (+y); btConeShapeZ with a rotation would do too. Here the cone's base faces up: a
+  // cone of half height h has its base at y = -h, grown by its margin. The body is turned upside down.
+  auto cone = std::make_unique<btConeShape>(btScalar(0.3), btScalar(0.2));
+  const double baseDown = -double(cone->localGetSupportingVertex(btVector3(0, -1, 0)).y());
+  btRigidBody& body = w.add(std::move(cone), 0.0, Vec3::Zero());
+  btTransform flipped = body.getWorldTransform();
+  flipped.setRotation(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI)));
+  body.setWorldTransform(flipped);
+  expectBoxRestsOn(w, baseDown, "cone base");
+}
+
+// A convex hull of a box's eight corners behaves as the box: with margin 0 at the box's top, with Bullet's
+// default margin 4 cm higher (a hull is its points grown by the margin).
+TEST_P(OtherShapes, ConvexHullOfBoxBehavesAsTheBox) {
+  for (double margin : {0.0, 0.04}) {
+    ShapesWorld w(GetParam());
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (int corner = 0; corner < 8; ++corner) {
+      hull->addPoint(btVector3(corner & 1 ? 0.4f : -0.4f, corner & 2 ? 0.05f : -0.05f, corner & 4 ? 0.4f : -0.4f));
+    }
+    hull->setMargin(btScalar(margin));
+    w.add(std::move(hull), 0.0, Vec3::Zero());
+    expectBoxRestsOn(w, 0.05 + margin, margin == 0.0 ? "hull, margin 0" : "hull, margin 0.04");
+  }
+}
+
+// The other role: a dynamic cylinder, cone and multi-sphere dropped on a static box of ours rest on it at the
+// height their lowest support point gives.
+TEST_P(OtherShapes, ConvexShapesRestOnStaticBodyOfOurs) {
+  std::vector<std::unique_ptr<btConvexShape>> falling;
+  falling.push_back(std::make_unique<btCylinderShape>(btVector3(0.05f, 0.04f, 0.05f)));
+  falling.push_back(std::make_unique<btConeShape>(btScalar(0.06), btScalar(0.08)));
+  const btVector3 centres[2] = {btVector3(-0.03f, 0, 0), btVector3(0.03f, 0, 0)};
+  const btScalar radii[2] = {0.03f, 0.03f};
+  falling.push_back(std::make_unique<btMultiSphereShape>(centres, radii, 2));
+  for (auto& shape : falling) {
+    ShapesWorld w(GetParam());
+    BodyModelSettings s;
+    s.resolution = 32;
+    s.points = 2000;
+    s.threads = 1;
+    auto plate = BodyModel::buildFromMesh(makeBox(Vec3(0.3, 0.05, 0.3)), s);
+    w.add(std::make_unique<SdfccdShape>(plate), 0.0, Vec3::Zero());
+    const double bottom = -double(shape->localGetSupportingVertex(btVector3(0, -1, 0)).y());
+    const std::string name = shape->getName();
+    btRigidBody& body =
+        w.add(std::unique_ptr<btCollisionShape>(shape.release()), 1.0, Vec3(0, 0.05 + bottom + 0.03, 0));
+    w.run(360);
+    const double height = double(body.getWorldTransform().getOrigin().y());
+    EXPECT_NEAR(height, 0.05 + bottom, plate->cellSize() + 0.002) << name;
+    EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05) << name;
+    EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0) << name;
+  }
+}
+
+// A 1 km ground of two triangles (a btBvhTriangleMeshShape) and a 1 km heightfield (513 x 513 samples of a
+// 1-in-20 slope): our box rests on each at the analytic height; nothing is allocated per square metre.
+TEST_P(OtherShapes, BoxRestsOnKilometreTriangleGround) {
+  ShapesWorld w(GetParam());
+  TriangleMesh ground;
+  ground.vertices = {Vec3(-500, 0, -500), Vec3(500, 0, -500), Vec3(500, 0, 500), Vec3(-500, 0, 500)};
+  ground.triangles = {{0, 2, 1}, {0, 3, 2}};
+  w.addStaticMesh(ground);
+  expectBoxRestsOn(w, 0.0, "1 km triangle ground");
+}
+
+TEST_P(OtherShapes, BoxRestsOnKilometreHeightfield) {
+  ShapesWorld w(GetParam());
+  const int n = 513;  // 1000 m / 512 = 1.95 m per sample
+  w.heights.emplace_back(static_cast<std::size_t>(n * n), 0.0f);
+  auto terrain = std::make_unique<btHeightfieldTerrainShape>(n, n, w.heights.back().data(), btScalar(1), btScalar(-1),
+                                                             btScalar(1), 1, PHY_FLOAT, false);
+  terrain->setLocalScaling(btVector3(btScalar(1000.0 / (n - 1)), 1, btScalar(1000.0 / (n - 1))));
+  w.add(std::move(terrain), 0.0, Vec3::Zero());
+  expectBoxRestsOn(w, 0.0, "1 km heightfield");
+}
+
+// 20 m/s head-on into a wall of two triangles of zero thickness, at 1/60 s steps (33 cm per step, more than
+// three times the box): the box never reaches the far side.
+TEST_P(OtherShapes, NoTunnellingThroughThinMeshWallAt20MetresPerSecond) {
+  ShapesWorld w(GetParam());
+  w.world.setGravity(btVector3(0, 0, 0));
+  TriangleMesh wall;
+  wall.vertices = {Vec3(0, -1, -1), Vec3(0, 1, -1), Vec3(0, 1, 1), Vec3(0, -1, 1)};
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}};
+  w.addStaticMesh(wall);
+  const auto model = smallBox();
+  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(-0.5, 0.0, 0.0));
+  box.setLinearVelocity(btVector3(20, 0, 0));
+  double farthest = -1e9;
+  for (int i = 0; i < 60; ++i) {
+    w.run(1, 1.0 / 60.0);
+    farthest = std::max(farthest, double(box.getWorldTransform().getOrigin().x()) + 0.05);
+  }
+  EXPECT_LE(farthest, 0.002) << "the box's front face passed the wall";
+  EXPECT_LE(box.getLinearVelocity().x(), 0.5);
+}
+
+// Compounds: a static compound of a cylinder and a box (our box lands on the cylinder child), and our box as a
+// compound child dropped on a triangle mesh ground.
+TEST_P(OtherShapes, CompoundsOfOtherShapesAndOfOurs) {
+  {
+    ShapesWorld w(GetParam());
+    auto compound = std::make_unique<btCompoundShape>();
+    btTransform at;
+    at.setIdentity();
+    at.setOrigin(btVector3(0, btScalar(0.1), 0));
+    w.shapes.push_back(std::make_unique<btCylinderShape>(btVector3(0.3f, 0.05f, 0.3f)));
+    compound->addChildShape(at, w.shapes.back().get());
+    at.setOrigin(btVector3(2, 0, 0));
+    w.shapes.push_back(std::make_unique<btBoxShape>(btVector3(0.3f, 0.3f, 0.3f)));
+    compound->addChildShape(at, w.shapes.back().get());
+    w.add(std::move(compound), 0.0, Vec3::Zero());
+    expectBoxRestsOn(w, 0.15, "compound's cylinder child");
+  }
+  {
+    ShapesWorld w(GetParam());
+    TriangleMesh ground;
+    ground.vertices = {Vec3(-5, 0, -5), Vec3(5, 0, -5), Vec3(5, 0, 5), Vec3(-5, 0, 5)};
+    ground.triangles = {{0, 2, 1}, {0, 3, 2}};
+    w.addStaticMesh(ground);
+    const auto model = smallBox();
+    auto compound = std::make_unique<btCompoundShape>();
+    btTransform at;
+    at.setIdentity();
+    at.setOrigin(btVector3(0, btScalar(0.02), 0));
+    w.shapes.push_back(std::make_unique<SdfccdShape>(model));
+    compound->addChildShape(at, w.shapes.back().get());
+    btRigidBody& body = w.add(std::move(compound), 1.0, Vec3(0, 0.1, 0));
+    w.run(360);
+    const double lowest = double(body.getWorldTransform().getOrigin().y()) + 0.02 - 0.05;
+    EXPECT_NEAR(lowest, 0.0, model->cellSize() + 0.002);
+    EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothModes, OtherShapes,
+                         ::testing::Values(SdfccdContactMode::Solver, SdfccdContactMode::Penalty),
+                         [](const auto& param) {
+                           return std::string(param.param == SdfccdContactMode::Solver ? "Solver" : "Penalty");
+                         });
+
+/// A user's concave shape we know nothing about (a type id no Bullet shape of ours uses).
+class UserConcaveShape : public btConcaveShape {
+ public:
+  UserConcaveShape() { m_shapeType = FAST_CONCAVE_MESH_PROXYTYPE; }
+  void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override {
+    aabbMin = t.getOrigin() - btVector3(1, 1, 1);
+    aabbMax = t.getOrigin() + btVector3(1, 1, 1);
+  }
+  void processAllTriangles(btTriangleCallback*, const btVector3&, const btVector3&) const override {}
+  void setLocalScaling(const btVector3& scaling) override { m_scaling = scaling; }
+  const btVector3& getLocalScaling() const override { return m_scaling; }
+  void calculateLocalInertia(btScalar, btVector3& inertia) const override { inertia.setValue(0, 0, 0); }
+  const char* getName() const override { return "UserConcaveShape"; }
+
+ private:
+  btVector3 m_scaling{1, 1, 1};
+};
+
+// The pair is announced once per type pair (two such shapes, many steps) and every call is counted.
+TEST(OtherShapesUnsupported, AnnouncedOnceAndCounted) {
+  ShapesWorld w(SdfccdContactMode::Solver);
+  w.add(std::make_unique<UserConcaveShape>(), 0.0, Vec3(0, 0, 0));
+  w.add(std::make_unique<UserConcaveShape>(), 0.0, Vec3(0.5, 0, 0));
+  w.add(std::make_unique<SdfccdShape>(smallBox()), 1.0, Vec3(0.2, 0.3, 0));
+  w.run(10);
+  ASSERT_EQ(w.log.size(), 1u);
+  EXPECT_NE(w.log[0].find("UserConcaveShape"), std::string::npos) << w.log[0];
+  EXPECT_NE(w.log[0].find("not supported"), std::string::npos) << w.log[0];
+  EXPECT_GE(w.contacts->statistics().unsupportedPairs, 20);  // two pairs, ten steps
+}
+
+}  // namespace other_shapes_test
+}  // namespace sdfccd
