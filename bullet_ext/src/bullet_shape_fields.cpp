@@ -7,9 +7,11 @@
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionShapes/btConcaveShape.h>
+#include <BulletCollision/CollisionShapes/btConeShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btConvexPointCloudShape.h>
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletCollision/CollisionShapes/btCylinderShape.h>
 #include <BulletCollision/CollisionShapes/btTriangleCallback.h>
 #include <LinearMath/btConvexHullComputer.h>
 
@@ -17,13 +19,11 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
-#include <unordered_map>
 #include <vector>
 
 #include "bullet_conversions.h"
 #include "convex_fields.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
-#include "sdfccd/fnv1a.h"
 
 namespace sdfccd::detail {
 namespace {
@@ -69,7 +69,7 @@ std::vector<Vec3> supportPoints(const btConvexShape* shape) {
 
 /// The convex hull of `points` as outward triangles; false when it has no volume.
 bool hullTriangles(const std::vector<Vec3>& points, std::vector<Vec3>& outVertices,
-                   std::vector<TriangleIndices>& outTriangles) {
+                   std::vector<TriangleIndices>& outTriangles, std::vector<std::vector<int>>& outFaces) {
   std::vector<double> coords;
   for (const Vec3& p : points) coords.insert(coords.end(), {p.x(), p.y(), p.z()});
   btConvexHullComputer hull;
@@ -77,6 +77,7 @@ bool hullTriangles(const std::vector<Vec3>& points, std::vector<Vec3>& outVertic
   if (hull.vertices.size() < 4 || hull.faces.size() < 4) return false;
   outVertices.clear();
   outTriangles.clear();
+  outFaces.clear();
   Vec3 centre = Vec3::Zero();
   for (int i = 0; i < hull.vertices.size(); ++i) {
     outVertices.push_back(toVec3(hull.vertices[i]));
@@ -91,15 +92,19 @@ bool hullTriangles(const std::vector<Vec3>& points, std::vector<Vec3>& outVertic
       loop.push_back(e->getTargetVertex());
       e = e->getNextEdgeOfFace();
     } while (e != first && loop.size() < 100000);
+    bool flip = false;
     for (std::size_t k = 1; k + 1 < loop.size(); ++k) {  // a fan over the (convex, planar) face
       TriangleIndices t{loop[0], loop[k], loop[k + 1]};
       const Vec3& a = outVertices[static_cast<std::size_t>(t[0])];
       const Vec3 n =
           (outVertices[static_cast<std::size_t>(t[1])] - a).cross(outVertices[static_cast<std::size_t>(t[2])] - a);
       if (!(n.norm() > 1e-14 * (1.0 + a.squaredNorm()))) continue;
-      if (n.dot(a - centre) < 0.0) std::swap(t[1], t[2]);  // outward, whatever the computer's winding
+      flip = n.dot(a - centre) < 0.0;  // outward, whatever the computer's winding
+      if (flip) std::swap(t[1], t[2]);
       outTriangles.push_back(t);
     }
+    if (flip) std::reverse(loop.begin(), loop.end());
+    outFaces.push_back(loop);
   }
   // No volume: every vertex on one plane.
   const Vec3& a = outVertices[static_cast<std::size_t>(outTriangles.empty() ? 0 : outTriangles[0][0])];
@@ -112,42 +117,68 @@ bool hullTriangles(const std::vector<Vec3>& points, std::vector<Vec3>& outVertic
   return thickness > 1e-9 * (1.0 + a.norm());
 }
 
-/// Points on the triangles at about `spacing`, pushed out by `radius` along their normals (the face's, or the
-/// average of the faces they are shared by on an edge or at a vertex), each with area A / N.
-PointShell sampleGrownSurface(const ConvexPolytopeField& field, double spacing) {
-  const auto& v = field.vertices();
-  std::unordered_map<std::uint64_t, std::size_t> seen;  // quantized position -> point
+/// Points on a convex polytope's surface at about `spacing`, pushed out by `radius` along their normals: a
+/// square grid in each face's plane (its own normal), points along each edge (the two faces' normals averaged)
+/// and the vertices (the incident faces' normals averaged); each with area A / N.
+PointShell sampleGrownSurface(const std::vector<Vec3>& v, const std::vector<std::vector<int>>& faces, double radius,
+                              double spacing) {
   PointShell shell;
-  std::vector<Vec3> normalSums;
   double area = 0.0;
-  const double quantum = spacing * 1e-4;
-  for (const TriangleIndices& t : field.triangles()) {
-    const Vec3& a = v[static_cast<std::size_t>(t[0])];
-    const Vec3& b = v[static_cast<std::size_t>(t[1])];
-    const Vec3& c = v[static_cast<std::size_t>(t[2])];
-    const Vec3 n = (b - a).cross(c - a).normalized();
-    area += 0.5 * (b - a).cross(c - a).norm();
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int steps = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
-    for (int i = 0; i <= steps; ++i) {
-      for (int j = 0; i + j <= steps; ++j) {
-        const Vec3 p = a + (b - a) * (double(i) / steps) + (c - a) * (double(j) / steps);
-        const Vec3i q = (p / quantum).array().round().cast<int>();
-        const std::uint64_t key = fnv1a(&q, sizeof(q));
-        const auto found = seen.find(key);
-        if (found != seen.end()) {
-          normalSums[found->second] += n;
-          continue;
+  std::vector<Vec3> faceNormals;
+  std::map<std::pair<int, int>, Vec3> edgeNormals;  // by (smaller, larger) vertex: the two faces' normals summed
+  std::vector<Vec3> vertexNormals(v.size(), Vec3::Zero());
+  for (const std::vector<int>& loop : faces) {
+    Vec3 newell = Vec3::Zero();  // twice the polygon's area vector
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      newell += v[static_cast<std::size_t>(loop[k])].cross(v[static_cast<std::size_t>(loop[(k + 1) % loop.size()])]);
+    }
+    area += 0.5 * newell.norm();
+    const Vec3 n = newell.norm() > 0.0 ? Vec3(newell.normalized()) : Vec3::Zero();  // zero: a sliver of no area
+    faceNormals.push_back(n);
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      edgeNormals[{std::min(a, b), std::max(a, b)}] += n;
+      vertexNormals[static_cast<std::size_t>(a)] += n;
+    }
+  }
+  auto add = [&](const Vec3& p, const Vec3& n) {
+    shell.positions.push_back(p + radius * n);
+    shell.normals.push_back(n);
+  };
+  for (std::size_t f = 0; f < faces.size(); ++f) {  // the faces' interiors: a grid in the face's plane
+    const Vec3& n = faceNormals[f];
+    if (n.isZero()) continue;
+    const Vec3 u = n.unitOrthogonal();
+    const Vec3 w = n.cross(u);
+    std::vector<Eigen::Vector2d> polygon;
+    Eigen::AlignedBox2d box;
+    for (int i : faces[f]) {
+      polygon.emplace_back(u.dot(v[static_cast<std::size_t>(i)]), w.dot(v[static_cast<std::size_t>(i)]));
+      box.extend(polygon.back());
+    }
+    const double height = n.dot(v[static_cast<std::size_t>(faces[f][0])]);
+    const double margin = 0.5 * spacing;  // keep clear of the edges, which have their own points
+    for (double x = std::ceil(box.min().x() / spacing) * spacing; x <= box.max().x(); x += spacing) {
+      for (double y = std::ceil(box.min().y() / spacing) * spacing; y <= box.max().y(); y += spacing) {
+        bool inside = true;  // counter-clockwise convex polygon: left of every edge by the margin
+        for (std::size_t k = 0; k < polygon.size() && inside; ++k) {
+          const Eigen::Vector2d e = polygon[(k + 1) % polygon.size()] - polygon[k];
+          const Eigen::Vector2d r = Eigen::Vector2d(x, y) - polygon[k];
+          inside = e.x() * r.y() - e.y() * r.x() >= margin * e.norm();
         }
-        seen.emplace(key, shell.positions.size());
-        shell.positions.push_back(p);
-        normalSums.push_back(n);
+        if (inside) add(x * u + y * w + height * n, n);
       }
     }
   }
-  for (std::size_t i = 0; i < shell.positions.size(); ++i) {
-    shell.normals.push_back(normalSums[i].normalized());
-    shell.positions[i] += field.radius() * shell.normals.back();
+  for (const auto& [edge, normalSum] : edgeNormals) {  // the edges, their ends excluded
+    const Vec3& a = v[static_cast<std::size_t>(edge.first)];
+    const Vec3& b = v[static_cast<std::size_t>(edge.second)];
+    if (!(normalSum.norm() > 1e-9)) continue;
+    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+    for (int i = 1; i < steps; ++i) add(a + (b - a) * (double(i) / steps), normalSum.normalized());
+  }
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (vertexNormals[i].norm() > 1e-9) add(v[i], vertexNormals[i].normalized());
   }
   assignUniformAreas(shell, area);
   return shell;
@@ -209,8 +240,9 @@ void registerOurPairs(btCollisionDispatcher& dispatcher, int ours, btCollisionAl
 }
 
 struct ConvexShapeCache::Entry {
-  std::unique_ptr<ConvexPolytopeField> field;                           // null: degenerate hull
-  Box3 box;                                                             // with the margin
+  std::unique_ptr<ConvexPolytopeField> field;  // null: degenerate hull
+  std::vector<std::vector<int>> faces;         // the hull's faces: outward loops of field->vertices()
+  Box3 box;                                    // with the margin
   std::map<std::pair<double, int>, std::unique_ptr<PointTree>> shells;  // by spacing, cap
 };
 
@@ -227,7 +259,7 @@ ConvexShapeCache::Entry& ConvexShapeCache::entry(const btConvexShape* shape) {
   slot = std::make_unique<Entry>();
   std::vector<Vec3> vertices;
   std::vector<TriangleIndices> triangles;
-  if (hullTriangles(points, vertices, triangles)) {
+  if (hullTriangles(points, vertices, triangles, slot->faces)) {
     for (const Vec3& p : vertices) slot->box.extend(p);
     slot->box.min().array() -= margin;
     slot->box.max().array() += margin;
@@ -250,14 +282,31 @@ const PointTree* ConvexShapeCache::shell(const btConvexShape* shape, double spac
   if (!e.field) return nullptr;
   std::unique_ptr<PointTree>& tree = e.shells[{spacing, maxPoints}];
   if (!tree) {
-    PointShell points = sampleGrownSurface(*e.field, spacing);
+    // At most maxPoints: the spacing grows with the square root of the excess.
+    const auto& v = e.field->vertices();
+    PointShell points = sampleGrownSurface(v, e.faces, e.field->radius(), spacing);
     for (double grown = spacing; points.size() > static_cast<std::size_t>(maxPoints);) {
-      grown *= 1.25;
-      points = sampleGrownSurface(*e.field, grown);
+      grown *= 1.05 * std::sqrt(double(points.size()) / maxPoints);
+      points = sampleGrownSurface(v, e.faces, e.field->radius(), grown);
     }
     tree = std::make_unique<PointTree>(std::move(points));
   }
   return tree.get();
+}
+
+std::optional<RevolvedConvexField> revolvedField(const btCollisionShape* shape) {
+  const double margin = double(shape->getMargin());
+  if (shape->getShapeType() == CYLINDER_SHAPE_PROXYTYPE) {
+    const auto* cylinder = static_cast<const btCylinderShape*>(shape);
+    const int axis = cylinder->getUpAxis();
+    const Vec3 half = toVec3(cylinder->getHalfExtentsWithoutMargin());
+    return cylinderField(half[(axis + 1) % 3], half[axis], axis, margin);
+  }
+  if (shape->getShapeType() == CONE_SHAPE_PROXYTYPE) {
+    const auto* cone = static_cast<const btConeShape*>(shape);
+    return coneField(double(cone->getRadius()), double(cone->getHeight()), cone->getConeUpIndex(), margin);
+  }
+  return std::nullopt;
 }
 
 std::optional<TriangleSetField> meshTrianglesInBox(const btCollisionShape* shape, const Box3& boxInShape,

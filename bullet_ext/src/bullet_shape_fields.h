@@ -6,7 +6,8 @@
 /// @details Which shape becomes what (ShapeKind):
 /// - Plane and AnalyticConvex (btStaticPlaneShape; btBoxShape, btSphereShape, btCapsuleShape): closed-form
 ///   fields and shells (convex_fields.h, sdfccd_convex_shells.cpp);
-/// - Convex: every other btConvexShape (cylinder, cone, convex hull, multi-sphere, convex triangle mesh, point
+/// - Convex: every other btConvexShape (cylinder and cone: exact fields of revolution, revolvedField(); convex hull,
+/// multi-sphere, convex triangle mesh, point
 ///   cloud, ...): its margin-free support points (a hull's or point cloud's own points; otherwise the support
 ///   function in 512 directions) made a convex hull (btConvexHullComputer), grown by Bullet's collision margin:
 ///   a ConvexPolytopeField, and points sampled on that surface. Both are cached by the support points' content
@@ -70,6 +71,11 @@ class ConvexShapeCache {
 
   std::map<std::string, std::unique_ptr<Entry>> m_entries;  // by support points, margin
 };
+
+/// A btCylinderShape (X/Y/Z) or btConeShape (X/Y/Z) as its exact field (RevolvedConvexField: margin-free sizes
+/// grown by the margin; a cylinder scaled unevenly across its axis takes its first radial half extent);
+/// nothing for any other shape, whose field is its hull's (ConvexShapeCache::field).
+std::optional<RevolvedConvexField> revolvedField(const btCollisionShape* shape);
 
 /// The triangles of a Mesh shape inside `boxInShape` (its own frame, scaling applied) as a field grown by the
 /// shape's margin, one-sided towards `outside` with `thickness` (TriangleSetField); nothing when the box holds

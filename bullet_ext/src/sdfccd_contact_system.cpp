@@ -261,8 +261,12 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
       respond(role, planeField, shellCell);
     } else if (fieldKind == ShapeKind::AnalyticConvex) {
       withConvexField(fieldShape, [&](const auto& convexField) { respond(role, convexField, shellCell); });
-    } else if (fieldKind == ShapeKind::Convex) {
-      respond(role, *m_convexShapes->field(static_cast<const btConvexShape*>(fieldShape)), shellCell);
+    } else if (fieldKind == ShapeKind::Convex) {  // a cylinder's or cone's exact field, or the hull's
+      if (const std::optional<RevolvedConvexField> revolved = detail::revolvedField(fieldShape)) {
+        respond(role, *revolved, shellCell);
+      } else {
+        respond(role, *m_convexShapes->field(static_cast<const btConvexShape*>(fieldShape)), shellCell);
+      }
     } else {  // a triangle mesh or terrain: the triangles near the shell's motion
       const double reach = std::max({m_settings.penalty.sigma, m_settings.maxSpeculativeMargin, 0.0}) + shellCell;
       const std::optional<TriangleSetField> mesh = meshFieldNear(role, shellShape, fieldShape, reach);

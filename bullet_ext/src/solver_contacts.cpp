@@ -239,6 +239,8 @@ template void SdfccdContactSystem::collectSolverCandidates<ConvexPolytopeField>(
                                                                                 double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<TriangleSetField>(const Role&, const TriangleSetField&,
                                                                              double, bool);
+template void SdfccdContactSystem::collectSolverCandidates<RevolvedConvexField>(const Role&, const RevolvedConvexField&,
+                                                                                double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<BoxField>(const Role&, const BoxField&, double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<SphereField>(const Role&, const SphereField&, double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<CapsuleField>(const Role&, const CapsuleField&, double,

@@ -176,5 +176,68 @@ TEST(TriangleSetField, NormalsFaceTheOutsidePointAndThicknessHoldsWhatSankIn) {
   EXPECT_THROW(TriangleSetField(quad, down, 0.0, -1.0), Error);
 }
 
+// Cylinder: the closed form min(max(qx, qy), 0) + |max(q, 0)| with q = (rho - r, |y| - h), minus the rounding.
+TEST(RevolvedConvexField, CylinderMatchesTheClosedForm) {
+  const double r = 0.3, h = 0.1, rounding = 0.02;
+  for (int axis = 0; axis < 3; ++axis) {
+    const RevolvedConvexField field = cylinderField(r, h, axis, rounding);
+    std::mt19937 rng(5 + axis);
+    std::uniform_real_distribution<double> u(-0.6, 0.6);
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3 p(u(rng), u(rng), u(rng));
+      Vec3 radial = p;
+      radial[axis] = 0.0;
+      const Eigen::Vector2d q(radial.norm() - r, std::abs(p[axis]) - h);
+      const double exact = std::min(std::max(q.x(), q.y()), 0.0) + q.cwiseMax(0.0).norm() - rounding;
+      EXPECT_NEAR(field.distance(p), exact, 1e-14) << p.transpose();
+      // The gradient is the distance's: a central difference (away from the creases).
+      const double e = 1e-6;
+      Vec3 numeric;
+      for (int k = 0; k < 3; ++k) {
+        numeric[k] = (field.distance(p + e * Vec3::Unit(k)) - field.distance(p - e * Vec3::Unit(k))) / (2 * e);
+      }
+      if (std::abs(q.x() - q.y()) > 1e-3 && std::abs(q.x()) > 1e-3 && std::abs(q.y()) > 1e-3 && radial.norm() > 1e-3) {
+        EXPECT_TRUE(field.gradient(p).isApprox(numeric, 1e-5)) << p.transpose();
+      }
+    }
+    for (int i = 0; i < 100; ++i) {
+      expectIntervalsMatchSampling(field, Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), 0.01);
+    }
+  }
+}
+
+// Cone: against brute force, the nearest of dense samples of its surface (lateral and base), signed by inside.
+TEST(RevolvedConvexField, ConeMatchesBruteForce) {
+  const double r = 0.2, height = 0.3;
+  const RevolvedConvexField field = coneField(r, height, 1, 0.0);
+  std::vector<Vec3> surface;
+  const int n = 200;
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j < 4 * n; ++j) {
+      const double s = double(i) / n, angle = 2 * M_PI * j / (4 * n);
+      const Vec3 dir(std::cos(angle), 0.0, std::sin(angle));
+      surface.push_back(s * r * dir + Vec3(0, 0.5 * height - s * height, 0));  // lateral, apex to rim
+      surface.push_back(s * r * dir + Vec3(0, -0.5 * height, 0));              // base disc
+    }
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.35, 0.35);
+  const double spacing = 2 * M_PI * r / (4 * n) + std::hypot(r, height) / n;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    double brute = 1e300;
+    for (const Vec3& q : surface) brute = std::min(brute, (p - q).norm());
+    const double rho = std::hypot(p.x(), p.z());
+    const bool inside = p.y() >= -0.5 * height && rho <= r * (0.5 * height - p.y()) / height;
+    EXPECT_NEAR(field.distance(p), inside ? -brute : brute, spacing) << p.transpose();
+  }
+  for (int i = 0; i < 100; ++i) {
+    expectIntervalsMatchSampling(field, Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), 0.005);
+  }
+  EXPECT_THROW(RevolvedConvexField({{0, 1}, {1, 0}}, 1, 0.0), Error);
+  EXPECT_THROW(RevolvedConvexField({{0.1, 1}, {1, 0}, {0, 0}}, 1, 0.0), Error);
+  EXPECT_THROW(coneField(0.2, 0.3, 3, 0.0), Error);
+}
+
 }  // namespace
 }  // namespace sdfccd

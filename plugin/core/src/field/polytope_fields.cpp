@@ -378,4 +378,105 @@ void TriangleSetField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf
   if (settings.mode == CcdMode::FirstHit && outResult.fraction > settings.maxFraction) reset(outResult);
 }
 
+// ---- RevolvedConvexField ----
+
+RevolvedConvexField::RevolvedConvexField(std::vector<Eigen::Vector2d> profile, int axis, double radius)
+    : m_profile(std::move(profile)), m_axis(axis), m_radius(radius) {
+  if (m_profile.size() < 3 || axis < 0 || axis > 2 || !(radius >= 0.0) || !std::isfinite(radius)) {
+    throw Error("RevolvedConvexField: needs 3 or more profile points, an axis 0..2 and a finite radius >= 0");
+  }
+  for (const Eigen::Vector2d& q : m_profile) {
+    if (!q.allFinite() || q.x() < 0.0) throw Error("RevolvedConvexField: profile points need rho >= 0, finite");
+  }
+  if (m_profile.front().x() != 0.0 || m_profile.back().x() != 0.0) {
+    throw Error("RevolvedConvexField: the profile must start and end on the axis");
+  }
+}
+
+double RevolvedConvexField::profileDistance(const Eigen::Vector2d& q, Eigen::Vector2d* outGradient) const {
+  double best = std::numeric_limits<double>::infinity();
+  bool inside = true;
+  Eigen::Vector2d away = Eigen::Vector2d::Zero();
+  for (std::size_t k = 0; k + 1 < m_profile.size(); ++k) {
+    const Eigen::Vector2d& a = m_profile[k];
+    const Eigen::Vector2d e = m_profile[k + 1] - a;
+    const double length2 = e.squaredNorm();
+    if (!(length2 > 0.0)) continue;
+    const Eigen::Vector2d r = q - a;
+    if (e.x() * r.y() - e.y() * r.x() > 0.0) inside = false;  // left of a clockwise edge: outside
+    const double s = std::clamp(r.dot(e) / length2, 0.0, 1.0);
+    const Eigen::Vector2d diff = r - s * e;
+    const double d = diff.norm();
+    if (d < best) {
+      best = d;
+      away = d > 0.0 ? Eigen::Vector2d(diff / d) : Eigen::Vector2d(-e.y(), e.x()).normalized();
+    }
+  }
+  if (inside) {  // the nearest edge's outward normal (the right of a clockwise edge)
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k + 1 < m_profile.size(); ++k) {
+      const Eigen::Vector2d e = m_profile[k + 1] - m_profile[k];
+      if (!(e.squaredNorm() > 0.0)) continue;
+      const Eigen::Vector2d n = Eigen::Vector2d(-e.y(), e.x()).normalized();  // left of a clockwise edge
+      const double depth = -n.dot(q - m_profile[k]);                          // >= 0 inside
+      if (depth < nearest) {
+        nearest = depth;
+        away = n;
+      }
+    }
+    best = -nearest;
+  }
+  if (outGradient) *outGradient = away;
+  return best;
+}
+
+double RevolvedConvexField::distance(const Vec3& p) const {
+  Vec3 radial = p;
+  radial[m_axis] = 0.0;
+  return profileDistance(Eigen::Vector2d(radial.norm(), p[m_axis]), nullptr) - m_radius;
+}
+
+Vec3 RevolvedConvexField::gradient(const Vec3& p) const {
+  Vec3 radial = p;
+  radial[m_axis] = 0.0;
+  const double rho = radial.norm();
+  Eigen::Vector2d g;
+  profileDistance(Eigen::Vector2d(rho, p[m_axis]), &g);
+  const Vec3 unitRadial = rho > 0.0 ? Vec3(radial / rho) : Vec3::Unit((m_axis + 1) % 3);
+  return g.x() * unitRadial + g.y() * Vec3::Unit(m_axis);
+}
+
+void RevolvedConvexField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
+                                           SegmentCcdResult& outResult) const {
+  reset(outResult);
+  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
+    outResult.state = SegmentState::Failed;
+    return;
+  }
+  // phi is convex along the segment (a convex solid, grown): one interval, as ConvexPolytopeField.
+  const Vec3 d = p1InSdf - p0InSdf;
+  const double level = settings.sigma + touchTolerance(p0InSdf, p1InSdf, settings.sigma + m_radius);
+  const auto f = [&](double t) { return distance(p0InSdf + t * d) - level; };
+  const bool all = settings.mode == CcdMode::AllIntervals;
+  Interval span;
+  if (!convexSublevelInterval(f, f(0.0), f(1.0), d.norm(), all, span)) return;
+  outResult.state = span.begin > 0.0 ? SegmentState::Hit : SegmentState::StartsInside;
+  outResult.fraction = span.begin;
+  outResult.point = p0InSdf + span.begin * d;
+  outResult.depth = span.begin > 0.0 ? 0.0 : distance(p0InSdf) - settings.sigma;
+  outResult.normal = gradient(outResult.point);
+  if (all) outResult.intervals.append(span.begin, span.end);
+  if (settings.mode == CcdMode::FirstHit && outResult.fraction > settings.maxFraction) reset(outResult);
+}
+
+RevolvedConvexField cylinderField(double cylinderRadius, double halfHeight, int axis, double rounding) {
+  return RevolvedConvexField(
+      {{0.0, halfHeight}, {cylinderRadius, halfHeight}, {cylinderRadius, -halfHeight}, {0.0, -halfHeight}}, axis,
+      rounding);
+}
+
+RevolvedConvexField coneField(double coneRadius, double height, int axis, double rounding) {
+  return RevolvedConvexField({{0.0, 0.5 * height}, {coneRadius, -0.5 * height}, {0.0, -0.5 * height}}, axis, rounding);
+}
+
 }  // namespace sdfccd

@@ -34,7 +34,7 @@
 
 /// Expands X(Field) for the two fields of this header: the rigid CCD, the contact query and the penalty model
 /// are instantiated for them too (not the haptic renderers, which meet grid and analytic fields only).
-#define SDFCCD_FOR_EACH_TRIANGLE_FIELD(X) X(ConvexPolytopeField) X(TriangleSetField)
+#define SDFCCD_FOR_EACH_TRIANGLE_FIELD(X) X(ConvexPolytopeField) X(TriangleSetField) X(RevolvedConvexField)
 
 namespace sdfccd {
 
@@ -118,5 +118,45 @@ class TriangleSetField {
   double m_radius;
   double m_thickness;
 };
+
+/// A convex solid of revolution about axis `axis` (0 = x, 1 = y, 2 = z) of the field frame, grown by
+/// `radius`: its meridian profile is the polyline `profile` of (distance from the axis, height) points, from
+/// a point on the axis round to a point on the axis, clockwise (outward on the right), the axis closing it.
+/// The exact signed distance of a solid of revolution is the 2D signed distance of (rho, height) to its
+/// profile, so this is exact and O(profile) per point. cylinderField() and coneField() make Bullet's.
+class RevolvedConvexField {
+ public:
+  /// Throws sdfccd::Error (one line) on fewer than 3 profile points, ends off the axis, a point with a
+  /// negative or non-finite coordinate, an axis not 0..2, or a negative or non-finite radius.
+  RevolvedConvexField(std::vector<Eigen::Vector2d> profile, int axis, double radius);
+
+  const std::vector<Eigen::Vector2d>& profile() const { return m_profile; }
+  int axis() const { return m_axis; }
+  double radius() const { return m_radius; }
+  bool contains(const Vec3&) const { return true; }
+
+  double distance(const Vec3& pointInSdf) const;
+  /// Outside: the unit direction from the nearest surface point; inside: the nearest profile edge's outward
+  /// normal (on the axis, a radial direction chosen once).
+  Vec3 gradient(const Vec3& pointInSdf) const;
+
+  void intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
+                        SegmentCcdResult& outResult) const;
+
+ private:
+  /// The 2D signed distance of (rho, height) to the profile and the 2D gradient.
+  double profileDistance(const Eigen::Vector2d& q, Eigen::Vector2d* outGradient) const;
+
+  std::vector<Eigen::Vector2d> m_profile;
+  int m_axis;
+  double m_radius;
+};
+
+/// The cylinder |p_axis| <= halfHeight, rho <= cylinderRadius, grown by `rounding` (Bullet's btCylinderShape:
+/// its margin-free half extents and its margin).
+RevolvedConvexField cylinderField(double cylinderRadius, double halfHeight, int axis, double rounding);
+/// The cone with apex at +height/2 on `axis` and base of `coneRadius` at -height/2, grown by `rounding`
+/// (Bullet's btConeShape and its margin).
+RevolvedConvexField coneField(double coneRadius, double height, int axis, double rounding);
 
 }  // namespace sdfccd
