@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -305,6 +307,93 @@ TEST(OtherShapesUnsupported, AnnouncedOnceAndCounted) {
   EXPECT_NE(w.log[0].find("UserConcaveShape"), std::string::npos) << w.log[0];
   EXPECT_NE(w.log[0].find("not supported"), std::string::npos) << w.log[0];
   EXPECT_GE(w.contacts->statistics().unsupportedPairs, 20);  // two pairs, ten steps
+}
+
+/// A 2 m x 2 m wavy terrain, 64 x 64 quads (8192 triangles) of height 0.03 sin(3x) cos(3z); `closed`: a slab
+/// down to y = -0.1 (sides and bottom), for our SDF builder.
+TriangleMesh wavyTerrain(bool closed) {
+  const int n = 64;
+  TriangleMesh mesh;
+  auto height = [](double x, double z) { return 0.03 * std::sin(3 * x) * std::cos(3 * z); };
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j <= n; ++j) {
+      const double x = -1 + 2.0 * i / n, z = -1 + 2.0 * j / n;
+      mesh.vertices.emplace_back(x, height(x, z), z);
+    }
+  }
+  auto at = [n](int i, int j) { return i * (n + 1) + j; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      mesh.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  }
+  if (!closed) return mesh;
+  // The rim's vertices, counter-clockwise seen from above, each dropped to y = -0.1: side quads and a bottom fan.
+  std::vector<int> rim;
+  for (int j = 0; j < n; ++j) rim.push_back(at(0, j));
+  for (int i = 0; i < n; ++i) rim.push_back(at(i, n));
+  for (int j = n; j > 0; --j) rim.push_back(at(n, j));
+  for (int i = n; i > 0; --i) rim.push_back(at(i, 0));
+  const int base = static_cast<int>(mesh.vertices.size());
+  for (int v : rim) mesh.vertices.emplace_back(mesh.vertices[static_cast<std::size_t>(v)].x(), -0.1,
+                                               mesh.vertices[static_cast<std::size_t>(v)].z());
+  const int count = static_cast<int>(rim.size());
+  for (int k = 0; k < count; ++k) {
+    const int a = rim[static_cast<std::size_t>(k)], b = rim[static_cast<std::size_t>((k + 1) % count)];
+    mesh.triangles.push_back({a, base + (k + 1) % count, b});
+    mesh.triangles.push_back({a, base + k, base + (k + 1) % count});
+  }
+  mesh.vertices.emplace_back(0.0, -0.1, 0.0);
+  for (int k = 0; k < count; ++k) {
+    mesh.triangles.push_back({base + k, static_cast<int>(mesh.vertices.size()) - 1, base + (k + 1) % count});
+  }
+  return mesh;
+}
+
+// Measurement (README "Supported pairs"): a bunny dropped on a static wavy level, its triangles exact (our shell
+// against the triangles near it, btBvhTriangleMeshShape) and as a dense SDF of the closed level (a static body
+// of ours). Prints the cost; checks the bunny comes to rest on the terrain either way. Run with
+// --gtest_also_run_disabled_tests (slow: the level's SDF build).
+TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
+  BodyModelSettings s;
+  s.resolution = 48;
+  s.points = 1500;
+  s.scale = 0.2;
+  auto bunny = BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
+  for (const bool exact : {true, false}) {
+    ShapesWorld w(SdfccdContactMode::Solver);
+    std::shared_ptr<const BodyModel> level;
+    if (exact) {
+      w.addStaticMesh(wavyTerrain(false));
+    } else {
+      BodyModelSettings ls;
+      ls.resolution = 256;  // 7.8 mm cells over the 2 m level
+      level = BodyModel::buildFromMesh(wavyTerrain(true), ls);
+      btRigidBody& ground = w.add(std::make_unique<SdfccdShape>(level), 0.0, Vec3::Zero());
+      // The body frame is the centre of mass and principal axes: placed so that the mesh frame is the world's.
+      const Rigid& pose = level->modelFromBody();
+      const Eigen::Matrix3d m = pose.linear();
+      btTransform t(btMatrix3x3(btScalar(m(0, 0)), btScalar(m(0, 1)), btScalar(m(0, 2)), btScalar(m(1, 0)),
+                                btScalar(m(1, 1)), btScalar(m(1, 2)), btScalar(m(2, 0)), btScalar(m(2, 1)),
+                                btScalar(m(2, 2))),
+                    btVector3(btScalar(pose.translation().x()), btScalar(pose.translation().y()),
+                              btScalar(pose.translation().z())));
+      ground.setWorldTransform(t);
+    }
+    const double lowest = -bunny->boundsInBody().min().y();
+    btRigidBody& body = w.add(std::make_unique<SdfccdShape>(bunny), 1.0, Vec3(0.1, 0.03 + lowest + 0.05, 0.1));
+    const auto start = std::chrono::steady_clock::now();
+    w.run(480);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s: 480 steps %.3f s wall (%.3f ms/step), ccd %.3f s, level grid %s\n",
+                exact ? "exact triangles" : "dense level SDF", wall, 1e3 * wall / 480,
+                w.contacts->statistics().ccdSeconds,
+                level ? (std::to_string(std::int64_t(level->field().grid().nodeCounts().prod()) * 4 / 1000000) + " MB").c_str() : "none");
+    EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05);
+    EXPECT_GT(lowestShellPoint(body, *bunny), -0.035);  // above the terrain's lowest
+    EXPECT_GT(w.contacts->lastStepContactCount(), 0);
+  }
 }
 
 }  // namespace other_shapes_test
