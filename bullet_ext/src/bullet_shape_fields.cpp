@@ -137,7 +137,7 @@ PointShell sampleGrownSurface(const std::vector<Vec3>& v, const std::vector<std:
     faceNormals.push_back(n);
     for (std::size_t k = 0; k < loop.size(); ++k) {
       const int a = loop[k], b = loop[(k + 1) % loop.size()];
-      edgeNormals[{std::min(a, b), std::max(a, b)}] += n;
+      edgeNormals.try_emplace({std::min(a, b), std::max(a, b)}, Vec3::Zero()).first->second += n;  // Eigen: no zero
       vertexNormals[static_cast<std::size_t>(a)] += n;
     }
   }
@@ -309,11 +309,19 @@ std::optional<RevolvedConvexField> revolvedField(const btCollisionShape* shape) 
   return std::nullopt;
 }
 
+void meshTriangles(const btCollisionShape* shape, const Box3& boxInShape, std::vector<Vec3>& outVertices,
+                   std::vector<TriangleIndices>& outTriangles) {
+  TriangleCollector collector;
+  static_cast<const btConcaveShape*>(shape)->processAllTriangles(&collector, toBt(boxInShape.min()),
+                                                                 toBt(boxInShape.max()));
+  outVertices = std::move(collector.vertices);
+  outTriangles = std::move(collector.triangles);
+}
+
 std::optional<TriangleSetField> meshTrianglesInBox(const btCollisionShape* shape, const Box3& boxInShape,
                                                    double thickness, const Vec3& outside) {
   TriangleCollector collector;
-  const auto* concave = static_cast<const btConcaveShape*>(shape);
-  concave->processAllTriangles(&collector, toBt(boxInShape.min()), toBt(boxInShape.max()));
+  meshTriangles(shape, boxInShape, collector.vertices, collector.triangles);
   if (collector.triangles.empty()) return std::nullopt;
   try {
     return TriangleSetField(std::move(collector.vertices), std::move(collector.triangles), double(shape->getMargin()),

@@ -72,6 +72,10 @@ class ConvexShapeCache {
   std::map<std::string, std::unique_ptr<Entry>> m_entries;  // by support points, margin
 };
 
+/// The triangles of a Mesh shape that overlap `boxInShape` (three vertices each, its frame, scaling applied).
+void meshTriangles(const btCollisionShape* shape, const Box3& boxInShape, std::vector<Vec3>& outVertices,
+                   std::vector<TriangleIndices>& outTriangles);
+
 /// A btCylinderShape (X/Y/Z) or btConeShape (X/Y/Z) as its exact field (RevolvedConvexField: margin-free sizes
 /// grown by the margin; a cylinder scaled unevenly across its axis takes its first radial half extent);
 /// nothing for any other shape, whose field is its hull's (ConvexShapeCache::field).

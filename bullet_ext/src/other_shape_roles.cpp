@@ -6,12 +6,14 @@
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
 
 #include <algorithm>
-#include <iostream>
+#include <array>
+#include <map>
 
 #include "bullet_conversions.h"
 #include "bullet_shape_fields.h"
 #include "contact_step.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
 
 namespace sdfccd {
 
@@ -37,32 +39,87 @@ void SdfccdContactSystem::reportUnsupported(const btCollisionShape* shape0, cons
   if (m_log) m_log(line);
 }
 
+namespace {
+
+/// The box, in B's frame, of shape A's box (in its own frame) at the step's start and at its end: every segment
+/// the rigid CCD walks between A's points and B lies in it. `outShapeBox`: A's box in its frame.
+Box3 sweptBoxIn(const btCollisionShape* shapeA, const Rigid& worldFromAStart, const Rigid& worldFromAEnd,
+                const Rigid& worldFromBStart, const Rigid& worldFromBEnd, Box3& outShapeBox) {
+  btVector3 low, high;
+  shapeA->getAabb(btTransform::getIdentity(), low, high);
+  outShapeBox = Box3(detail::toVec3(low), detail::toVec3(high));
+  const Rigid bFromAStart = worldFromBStart.inverse() * worldFromAStart;
+  const Rigid bFromAEnd = worldFromBEnd.inverse() * worldFromAEnd;
+  Box3 box;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p = outShapeBox.corner(static_cast<Box3::CornerType>(corner));
+    box.extend(bFromAStart * p);
+    box.extend(bFromAEnd * p);
+  }
+  return box;
+}
+
+}  // namespace
+
 std::optional<TriangleSetField> SdfccdContactSystem::meshFieldNear(const Role& role, const btCollisionShape* shellShape,
                                                                    const btCollisionShape* meshShape,
                                                                    double pad) const {
-  // Every segment the rigid CCD walks runs, in the mesh's frame, from a shell point's start to its end: inside
-  // the box of the shell's box at the start and at the end, both seen from the mesh at that time.
-  btVector3 low, high;
-  shellShape->getAabb(btTransform::getIdentity(), low, high);
-  const Box3 shellBox(detail::toVec3(low), detail::toVec3(high));
   const BodyStep& shell = m_bodies[role.shell];
   const BodyStep& mesh = m_bodies[role.field];
-  const Rigid meshFromShellStart = (mesh.worldFromBodyStart * role.bodyFromFieldChild).inverse() *
-                                   shell.worldFromBodyStart * role.bodyFromShellChild;
-  const Rigid meshFromShellEnd =
-      (mesh.worldFromBodyEnd * role.bodyFromFieldChild).inverse() * shell.worldFromBodyEnd * role.bodyFromShellChild;
-  Box3 box;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p = shellBox.corner(static_cast<Box3::CornerType>(corner));
-    box.extend(meshFromShellStart * p);
-    box.extend(meshFromShellEnd * p);
-  }
+  const Rigid worldFromMeshStart = mesh.worldFromBodyStart * role.bodyFromFieldChild;
+  const Rigid worldFromShellStart = shell.worldFromBodyStart * role.bodyFromShellChild;
+  Box3 shellBox;
+  Box3 box = sweptBoxIn(shellShape, worldFromShellStart, shell.worldFromBodyEnd * role.bodyFromShellChild,
+                        worldFromMeshStart, mesh.worldFromBodyEnd * role.bodyFromFieldChild, shellBox);
   box.min().array() -= pad;
   box.max().array() += pad;
   // One-sided towards the shell's centre, as deep as half its thinnest size: a point deeper than that could be
   // past the mesh with its body (a thin wall's other side), not sinking into it.
   return detail::meshTrianglesInBox(meshShape, box, 0.5 * shellBox.sizes().minCoeff(),
-                                    meshFromShellStart * shellBox.center());
+                                    worldFromMeshStart.inverse() * worldFromShellStart * shellBox.center());
+}
+
+const PointTree* SdfccdContactSystem::meshVertexTree(const Role& role, const btCollisionShape* meshShape,
+                                                     const btCollisionShape* ourShape) {
+  const BodyStep& mesh = m_bodies[role.shell];
+  const BodyStep& ours = m_bodies[role.field];
+  const Rigid worldFromMeshStart = mesh.worldFromBodyStart * role.bodyFromShellChild;
+  const Rigid worldFromOursStart = ours.worldFromBodyStart * role.bodyFromFieldChild;
+  Box3 ourBox;
+  const Box3 box = sweptBoxIn(ourShape, worldFromOursStart, ours.worldFromBodyEnd * role.bodyFromFieldChild,
+                              worldFromMeshStart, mesh.worldFromBodyEnd * role.bodyFromShellChild, ourBox);
+  std::vector<Vec3> corners;
+  std::vector<TriangleIndices> triangles;
+  detail::meshTriangles(meshShape, box, corners, triangles);
+  // Each vertex inside the box once, its normal the sum of its triangles' normals turned towards our body.
+  const Vec3 ourCentre = worldFromMeshStart.inverse() * worldFromOursStart * ourBox.center();
+  std::map<std::array<double, 3>, std::size_t> seen;
+  PointShell points;
+  for (const TriangleIndices& t : triangles) {
+    const Vec3& a = corners[static_cast<std::size_t>(t[0])];
+    Vec3 n = (corners[static_cast<std::size_t>(t[1])] - a).cross(corners[static_cast<std::size_t>(t[2])] - a);
+    if (!(n.norm() > 0.0)) continue;
+    n.normalize();
+    if (n.dot(ourCentre - a) < 0.0) n = -n;
+    for (int i : t) {
+      const Vec3& v = corners[static_cast<std::size_t>(i)];
+      if (!box.contains(v)) continue;
+      const auto found = seen.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, points.positions.size());
+      if (found.second) {
+        points.positions.push_back(v);
+        points.normals.push_back(n);
+      } else {
+        points.normals[found.first->second] += n;
+      }
+    }
+  }
+  if (points.empty()) return nullptr;
+  for (Vec3& n : points.normals) n.normalize();
+  // Each vertex stands for one of our shell's points (the per-area penalty law).
+  const PointShell& ourShell = static_cast<const SdfccdShape*>(ourShape)->model().shell();
+  assignUniformAreas(points, ourShell.totalArea() / double(ourShell.size()) * double(points.size()));
+  m_meshVertices = std::make_unique<PointTree>(std::move(points));
+  return m_meshVertices.get();
 }
 
 }  // namespace sdfccd

@@ -245,8 +245,14 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (isSdfccdShape(fieldShape)) {
       const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
-      role.shellTree = isSdfccdShape(shellShape) ? &static_cast<const SdfccdShape*>(shellShape)->model().tree()
-                                                 : otherShellTree(shellShape, fieldModel.cellSize());
+      if (isSdfccdShape(shellShape)) {
+        role.shellTree = &static_cast<const SdfccdShape*>(shellShape)->model().tree();
+      } else {
+        role.shellTree = detail::shapeKind(shellShape) == ShapeKind::Mesh
+                             ? meshVertexTree(role, shellShape, fieldShape)
+                             : otherShellTree(shellShape, fieldModel.cellSize());
+        if (role.shellTree == nullptr) return;
+      }
       respond(role, fieldModel.field(), fieldModel.cellSize());
       return;
     }
@@ -278,7 +284,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     runRole(ours0 ? index0 : index1, ours0 ? index1 : index0, ours0 ? wrap0 : wrap1, ours0 ? wrap1 : wrap0, ours0);
   if (ours0 && ours1) {
     runRole(index1, index0, wrap1, wrap0, false);
-  } else if (convexOther) {
+  } else if (convexOther || otherKind == ShapeKind::Mesh) {  // a mesh's vertices: at full strength (roleScale)
     runRole(ours0 ? index1 : index0, ours0 ? index0 : index1, ours0 ? wrap1 : wrap0, ours0 ? wrap0 : wrap1, !ours0);
   }
   if (solver) writeSolverManifolds(swapped ? wrap1 : wrap0, swapped ? wrap0 : wrap1, manifold, *solverPair);

@@ -172,10 +172,13 @@ class SdfccdContactSystem : public btActionInterface {
   void setSettings(const SdfccdContactSettings& settings);
 
   /// Overwrites every dispatcher entry involving CUSTOM_CONCAVE_SHAPE_TYPE (see sdfccd_shape.h). Our
-  /// algorithm for (ours, X) and (X, ours), contacts and closest points, with X = ours, btStaticPlaneShape,
-  /// btBoxShape, btSphereShape, btCapsuleShape (X/Y/Z); btEmptyAlgorithm for every other X. A convex X takes
+  /// algorithm for (ours, X) and (X, ours), contacts and closest points, for every X but compounds (Bullet's
+  /// compound algorithms stay, and dispatch each child pair back to ours) and btEmptyShape. A convex X takes
   /// both roles like ours: its surface points (sampled once per size, convexPointSpacingCells) against our
-  /// field, and our shell against its exact analytic field (BoxField, SphereField, CapsuleField). The
+  /// field, and our shell against its exact field (BoxField, SphereField, CapsuleField; RevolvedConvexField for
+  /// cylinders and cones; the ConvexPolytopeField of its hull for any other convex shape). Triangle meshes and
+  /// terrain: our shell against the triangles near our body, their vertices against our field. Any other X
+  /// (bullet_shape_fields.h) is announced once (setLogCallback) and counted in unsupportedPairs. The
   /// create functions are owned by this object: keep it alive as long as the dispatcher.
   void registerWith(btCollisionDispatcher& dispatcher);
 
@@ -242,6 +245,10 @@ class SdfccdContactSystem : public btActionInterface {
   /// (relative to the mesh), in the mesh's frame; nothing when there are none (other_shape_roles.cpp).
   std::optional<TriangleSetField> meshFieldNear(const Role& role, const btCollisionShape* shellShape,
                                                 const btCollisionShape* meshShape, double pad) const;
+  /// A triangle mesh's role as shell: its vertices in the box our body (the role's field) sweeps, each with the
+  /// normal of its triangles turned towards our body; null when there are none (other_shape_roles.cpp).
+  const PointTree* meshVertexTree(const Role& role, const btCollisionShape* meshShape,
+                                  const btCollisionShape* ourShape);
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
@@ -258,8 +265,9 @@ class SdfccdContactSystem : public btActionInterface {
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
   std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
   std::unique_ptr<detail::ConvexShapeCache> m_convexShapes;                   // other convex shapes' fields and shells
-  SdfccdLogCallback m_log;                                                    // announcements (stderr unless set)
-  std::set<std::pair<int, int>> m_announcedPairs;                             // shape type pairs announced unsupported
+  std::unique_ptr<PointTree> m_meshVertices;       // the current mesh role's vertices (one role at a time)
+  SdfccdLogCallback m_log;                         // announcements (stderr unless set)
+  std::set<std::pair<int, int>> m_announcedPairs;  // shape type pairs announced unsupported
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
