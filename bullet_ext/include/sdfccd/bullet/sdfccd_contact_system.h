@@ -6,7 +6,9 @@
 /// 1. Narrowphase (SdfccdCollisionAlgorithm -> processPair): for each pair, each body in each role (shell of
 ///    A vs field of B, then shell of B vs field of A; a btStaticPlaneShape is an analytic PlaneField and only
 ///    a field; a btBoxShape, btSphereShape or btCapsuleShape is an analytic field and points sampled on its
-///    surface, so it takes both roles like ours), the rigid CCD runs over the step's motion: start = the
+///    surface, so it takes both roles like ours, and so does any other btConvexShape; a triangle mesh or
+///    terrain is its triangles near our body as a field and its vertices there as points: registerWith()),
+///    the rigid CCD runs over the step's motion: start = the
 ///    body's current transform, end = its motion integrated over the step from the velocity *plus* the forces
 ///    Bullet will add (gravity and applied forces, the same symplectic Euler step integrateVelocities/
 ///    integrateTransforms perform), which is the actual end of the step because our contacts add no solver
