@@ -174,6 +174,27 @@ TEST_P(OtherShapes, ConvexHullOfBoxBehavesAsTheBox) {
   }
 }
 
+// The convex cache is keyed by content: a hull freed and another made (likely at the same address) with other
+// points is not served the first one's field. Slab tops at 0.05 and then 0.12.
+TEST_P(OtherShapes, FreedHullIsNotServedToItsSuccessor) {
+  ShapesWorld w(GetParam());
+  for (double top : {0.05, 0.12}) {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (int corner = 0; corner < 8; ++corner) {
+      hull->addPoint(
+          btVector3(corner & 1 ? 0.4f : -0.4f, btScalar(corner & 2 ? top : -0.05), corner & 4 ? 0.4f : -0.4f));
+    }
+    hull->setMargin(0);
+    w.add(std::move(hull), 0.0, Vec3::Zero());
+    expectBoxRestsOn(w, top, top < 0.1 ? "first hull" : "second hull");
+    for (int i = 0; i < 2; ++i) {  // both bodies out, both shapes freed
+      w.world.removeRigidBody(w.bodies.back().get());
+      w.bodies.pop_back();
+      w.shapes.pop_back();
+    }
+  }
+}
+
 // The other role: a dynamic cylinder, cone and multi-sphere dropped on a static box of ours rest on it at the
 // height their lowest support point gives.
 TEST_P(OtherShapes, ConvexShapesRestOnStaticBodyOfOurs) {
