@@ -3,6 +3,7 @@
 // the announcement of a pair still unsupported. Answers are analytic: rest heights from the shapes' sizes
 // (Bullet's margin included), no tunnelling through a zero-thickness wall at 20 m/s.
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
+#include <BulletCollision/Gimpact/btGImpactShape.h>
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
@@ -233,6 +234,19 @@ TEST_P(OtherShapes, BoxRestsOnKilometreTriangleGround) {
   ground.triangles = {{0, 2, 1}, {0, 3, 2}};
   w.addStaticMesh(ground);
   expectBoxRestsOn(w, 0.0, "1 km triangle ground");
+}
+
+// A btGImpactMeshShape ground (its margin lifts the surface): the same triangles through GImpact's own tree.
+TEST_P(OtherShapes, BoxRestsOnGImpactMesh) {
+  ShapesWorld w(GetParam());
+  w.meshes.push_back(std::make_unique<btTriangleMesh>());
+  w.meshes.back()->addTriangle(btVector3(-2, 0, -2), btVector3(2, 0, 2), btVector3(2, 0, -2));
+  w.meshes.back()->addTriangle(btVector3(-2, 0, -2), btVector3(-2, 0, 2), btVector3(2, 0, 2));
+  auto gimpact = std::make_unique<btGImpactMeshShape>(w.meshes.back().get());
+  gimpact->setMargin(btScalar(0.01));
+  gimpact->updateBound();
+  w.add(std::move(gimpact), 0.0, Vec3::Zero());
+  expectBoxRestsOn(w, 0.01, "GImpact mesh");
 }
 
 TEST_P(OtherShapes, BoxRestsOnKilometreHeightfield) {
