@@ -121,6 +121,25 @@ void expectBoxRestsOn(ShapesWorld& w, double top, const char* what) {
 
 class OtherShapes : public ::testing::TestWithParam<SdfccdContactMode> {};
 
+// The bunny (0.2 m, default solver mode) dropped 2 cm onto a static btCylinderShape (top at y = 0.05) rests on
+// its top: lowest shell point within a cell and the solver's margin, at rest, still over the cylinder.
+TEST(OtherShapesBunny, BunnyRestsOnStaticCylinder) {
+  BodyModelSettings s;
+  s.resolution = 48;
+  s.points = 1500;
+  s.scale = 0.2;
+  auto bunny = BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
+  ShapesWorld w(SdfccdContactMode::Solver);
+  w.add(std::make_unique<btCylinderShape>(btVector3(0.3f, 0.05f, 0.3f)), 0.0, Vec3::Zero());
+  const double lowest = -bunny->boundsInBody().min().y();
+  btRigidBody& body = w.add(std::make_unique<SdfccdShape>(bunny), 1.0, Vec3(0.02, 0.05 + lowest + 0.02, -0.03));
+  w.run(480);
+  EXPECT_NEAR(lowestShellPoint(body, *bunny), 0.05, bunny->cellSize() + 0.002) << "cell " << bunny->cellSize();
+  EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05);
+  EXPECT_LT(std::hypot(body.getWorldTransform().getOrigin().x(), body.getWorldTransform().getOrigin().z()), 0.2);
+  EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0);
+}
+
 // Static cylinders (Y, and X lying on its side) and a cone's base; top heights from their sizes.
 TEST_P(OtherShapes, BoxRestsOnStaticCylinder) {
   ShapesWorld w(GetParam());
