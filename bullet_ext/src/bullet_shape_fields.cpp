@@ -50,7 +50,18 @@ const std::vector<Vec3>& supportDirections() {
   return directions;
 }
 
-/// The shape's margin-free support points (scaling applied): its own points where it has a list.
+/// Shapes whose Bullet surface is their margin-free support points' hull grown by the margin (a Minkowski sum
+/// with a ball): the hull is then exact, its rounding too. For the others (a btMultiSphereShape, whose
+/// margin-free support is its spheres shrunk by the margin, inside out when the margin exceeds a radius; a
+/// wrapper, a user's shape) only the support with the margin is the shape's: its hull, not grown.
+bool grownByMargin(int shapeType) {
+  return shapeType == CONVEX_HULL_SHAPE_PROXYTYPE || shapeType == CONVEX_POINT_CLOUD_SHAPE_PROXYTYPE ||
+         shapeType == CONVEX_TRIANGLEMESH_SHAPE_PROXYTYPE || shapeType == CYLINDER_SHAPE_PROXYTYPE ||
+         shapeType == CONE_SHAPE_PROXYTYPE || shapeType == TRIANGLE_SHAPE_PROXYTYPE;
+}
+
+/// The shape's support points (scaling applied), margin-free where grownByMargin (its own points where it has a
+/// list), with the margin otherwise.
 std::vector<Vec3> supportPoints(const btConvexShape* shape) {
   std::vector<Vec3> points;
   if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
@@ -60,8 +71,10 @@ std::vector<Vec3> supportPoints(const btConvexShape* shape) {
     const auto* cloud = static_cast<const btConvexPointCloudShape*>(shape);
     for (int i = 0; i < cloud->getNumPoints(); ++i) points.push_back(toVec3(cloud->getScaledPoint(i)));
   } else {
+    const bool grown = grownByMargin(shape->getShapeType());
     for (const Vec3& d : supportDirections()) {
-      points.push_back(toVec3(shape->localGetSupportingVertexWithoutMargin(toBt(d))));
+      points.push_back(toVec3(grown ? shape->localGetSupportingVertexWithoutMargin(toBt(d))
+                                    : shape->localGetSupportingVertex(toBt(d))));
     }
   }
   return points;
@@ -251,7 +264,7 @@ ConvexShapeCache::~ConvexShapeCache() = default;
 
 ConvexShapeCache::Entry& ConvexShapeCache::entry(const btConvexShape* shape) {
   const std::vector<Vec3> points = supportPoints(shape);
-  const double margin = double(shape->getMargin());
+  const double margin = grownByMargin(shape->getShapeType()) ? double(shape->getMargin()) : 0.0;
   std::string key(reinterpret_cast<const char*>(points.data()), points.size() * sizeof(Vec3));
   key.append(reinterpret_cast<const char*>(&margin), sizeof(margin));
   std::unique_ptr<Entry>& slot = m_entries[key];

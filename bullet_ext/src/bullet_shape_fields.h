@@ -9,7 +9,8 @@
 /// - Convex: every other btConvexShape (cylinder and cone: exact fields of revolution, revolvedField(); convex hull,
 /// multi-sphere, convex triangle mesh, point
 ///   cloud, ...): its margin-free support points (a hull's or point cloud's own points; otherwise the support
-///   function in 512 directions) made a convex hull (btConvexHullComputer), grown by Bullet's collision margin:
+///   function in 518 directions) made a convex hull (btConvexHullComputer), grown by Bullet's collision margin
+///   (a multi-sphere or a wrapper: the support with the margin, not grown; see grownByMargin()):
 ///   a ConvexPolytopeField, and points sampled on that surface. Both are cached by the support points' content
 ///   (not the shape's address, which a freed shape hands on), the margin and the spacing;
 /// - Mesh: static triangle meshes and terrain (btBvhTriangleMeshShape, btScaledBvhTriangleMeshShape,
