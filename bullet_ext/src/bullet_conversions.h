@@ -7,13 +7,14 @@
 #include <LinearMath/btTransform.h>
 #include <LinearMath/btVector3.h>
 
+#include "sdfccd/bullet/bullet_pose.h"
 #include "sdfccd/math_types.h"
 
 namespace sdfccd::detail {
 
-inline Vec3 toVec3(const btVector3& v) {
-  return Vec3(v.x(), v.y(), v.z());
-}
+// The public conversions (bullet_pose.h) under the names the plugin's sources use.
+using sdfccd::toRigid;
+using sdfccd::toVec3;
 inline Mat3 toMat3(const btMatrix3x3& m) {
   Mat3 out;
   for (int r = 0; r < 3; ++r) {
@@ -22,21 +23,10 @@ inline Mat3 toMat3(const btMatrix3x3& m) {
   return out;
 }
 inline btVector3 toBt(const Vec3& v) {
-  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
+  return toBtVector3(v);
 }
-
-inline Rigid toRigid(const btTransform& t) {
-  Rigid r = Rigid::Identity();
-  const btQuaternion q = t.getRotation();
-  r.linear() = Quat(q.w(), q.x(), q.y(), q.z()).normalized().toRotationMatrix();
-  r.translation() = toVec3(t.getOrigin());
-  return r;
-}
-
 inline btTransform toBt(const Rigid& r) {
-  const Quat q(r.linear());
-  return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
-                     toBt(Vec3(r.translation())));
+  return toBtTransform(r);
 }
 
 /// The pose at fraction t of the step: translation lerped, rotation slerped.

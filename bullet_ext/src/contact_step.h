@@ -70,10 +70,11 @@ struct SdfccdContactSystem::Role {
   Rigid bodyFromShellChild = Rigid::Identity();  // the shell wrapper's frame in its body (compound child)
   Rigid bodyFromFieldChild = Rigid::Identity();  // the field wrapper's frame in its body
   bool shellIsBody0 = true;
-  double roleScale = 1.0;                  // s_r: 1/2 when the pair runs both roles
-  double friction = 0.0;                   // mu of the pair (combined, or the settings' override)
-  double dampingRatio = -1.0;              // zeta of the pair (from its restitution, or the settings')
-  FrictionAnchorTable* anchors = nullptr;  // this pair and role's anchors, kept across steps
+  double roleScale = 1.0;                    // s_r: 1/2 when the pair runs both roles
+  double friction = 0.0;                     // mu of the pair (combined, or the settings' override)
+  double dampingRatio = -1.0;                // zeta of the pair (from its restitution, or the settings')
+  const PenaltySettings* penalty = nullptr;  // the pair's penalty parameters (per-body overrides combined)
+  FrictionAnchorTable* anchors = nullptr;    // this pair and role's anchors, kept across steps
 };
 
 /// The friction anchors of one pair and role, kept across steps (design 2.4), keyed by the pair's manifold.

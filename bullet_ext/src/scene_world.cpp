@@ -222,7 +222,8 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
 }
 
 SceneWorld::~SceneWorld() {
-  if (m_world != nullptr && m_contacts) m_world->removeAction(m_contacts.get());
+  // Ends the registration (its table entry would keep the system until the dispatcher's address is reused).
+  if (m_world != nullptr && m_contacts) releaseSdfccdAlgorithms(m_world);
   m_bullet.reset();
 }
 

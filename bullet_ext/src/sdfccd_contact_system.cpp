@@ -212,9 +212,10 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   // One role: the shell of `shellWrap` (ours, or a convex's surface points) against the field of `fieldWrap`
   // (ours, or a plane's or a convex's analytic field).
   // The pair's material, combined the Bullet way (design 2.6), unless the settings override it.
-  const PenaltySettings& penalty = m_settings.penalty;
   const btCollisionObject* object0 = wrap0->getCollisionObject();
   const btCollisionObject* object1 = wrap1->getCollisionObject();
+  const PenaltySettings pairPenalty = combinedPenalty(object0, object1);  // per-body overrides (setBodyContact)
+  const PenaltySettings& penalty = pairPenalty;
   const double friction =
       penalty.frictionFromBodies ? double(gCalculateCombinedFrictionCallback(object0, object1)) : penalty.friction;
   double dampingRatio = penalty.dampingRatio;
@@ -236,6 +237,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     role.roleScale = bothRoles ? 0.5 : 1.0;
     role.friction = std::clamp(friction, 0.0, kMaxCombinedFriction);
     role.dampingRatio = dampingRatio;
+    role.penalty = &pairPenalty;
     if (!closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor) {
       role.anchors = anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
     }
@@ -328,7 +330,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   const Rigid& worldFromFieldEnd = fieldMotion.worldFromSdfEnd;
 
   ContactQuerySettings query;
-  query.penalty = m_settings.penalty;
+  query.penalty = role.penalty != nullptr ? *role.penalty : m_settings.penalty;
   if (discrete) query.penalty.model = PenaltyModel::Discrete;
   query.penalty.roleScale = role.roleScale;
   query.penalty.friction = role.friction;
@@ -471,23 +473,6 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   m_records.push_back(record);
 }
 
-std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
-                                                              const SdfccdContactSettings& settings) {
-  if (dispatcher == nullptr) throw Error("registerSdfccdAlgorithms: the dispatcher is null");
-  auto system = std::make_shared<SdfccdContactSystem>(settings);
-  system->registerWith(*dispatcher);
-  return system;
-}
-
-std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamicsWorld* world,
-                                                              const SdfccdContactSettings& settings) {
-  if (world == nullptr) throw Error("registerSdfccdAlgorithms: the world is null");
-  auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(world->getDispatcher());
-  if (dispatcher == nullptr)
-    throw Error("registerSdfccdAlgorithms: the world's dispatcher is not a btCollisionDispatcher");
-  auto system = registerSdfccdAlgorithms(dispatcher, settings);
-  world->addAction(system.get());
-  return system;
-}
+// registerSdfccdAlgorithms(): sdfccd_registration.cpp.
 
 }  // namespace sdfccd

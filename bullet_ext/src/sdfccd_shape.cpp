@@ -10,7 +10,8 @@
 
 namespace sdfccd {
 
-SdfccdShape::SdfccdShape(std::shared_ptr<const BodyModel> model) : m_model(std::move(model)) {
+SdfccdShape::SdfccdShape(std::shared_ptr<const BodyModel> model)
+    : m_model(std::move(model)), m_queryAccel(makeQueryAccel()) {
   if (!m_model) throw Error("SdfccdShape: the body model is null");
   m_shapeType = CUSTOM_CONCAVE_SHAPE_TYPE;
   const Box3& box = m_model->boundsInBody();
@@ -43,6 +44,7 @@ void SdfccdShape::calculateLocalInertia(btScalar mass, btVector3& inertia) const
 
 void SdfccdShape::processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin,
                                       const btVector3& aabbMax) const {
+  if (processQuery(callback)) return;
   const TriangleMesh& mesh = m_model->meshInBody();
   btVector3 corners[3];
   for (int index = 0; index < static_cast<int>(mesh.triangles.size()); ++index) {

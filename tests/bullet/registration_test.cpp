@@ -1,7 +1,11 @@
 // The dispatcher finds our algorithm for every pair involving SdfccdShape, in both orders, for contacts and
 // closest points (compounds keep Bullet's compound algorithms, which dispatch their children back to ours).
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcherMt.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolverMt.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorldMt.h>
+#include <LinearMath/btThreads.h>
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
@@ -119,6 +123,90 @@ TEST(Registration, RayTestHitsTheMesh) {
   ASSERT_TRUE(ray.hasHit());
   EXPECT_NEAR(ray.m_hitPointWorld.y(), 0.1, 0.01);
   world.removeCollisionObject(&object);
+}
+
+// A sphere body dropped on a plane in a world whose registration result was thrown away: the registration owns
+// the system (no use-after-free; run under ASan too) and the contacts work.
+TEST(Registration, DroppingTheReturnedSystemIsSafe) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  world.setGravity(btVector3(0, -9.81f, 0));
+  registerSdfccdAlgorithms(&world);  // dropped
+  btStaticPlaneShape planeShape(btVector3(0, 1, 0), 0);
+  btRigidBody ground(0, nullptr, &planeShape);
+  world.addRigidBody(&ground);
+  SdfccdShape shape(smallSphereModel());
+  btVector3 inertia;
+  shape.calculateLocalInertia(1, inertia);
+  btRigidBody ball(1, nullptr, &shape, inertia);
+  ball.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)));
+  world.addRigidBody(&ball);
+  for (int i = 0; i < 240; ++i) world.stepSimulation(1.0f / 240, 0);
+  // It rests on the plane: the sphere's radius above it, within a few cells of penetration.
+  EXPECT_NEAR(ball.getWorldTransform().getOrigin().y(), 0.1, 0.01);
+  // Released before the world goes: our pairs get no contact, the world still steps.
+  releaseSdfccdAlgorithms(&world);
+  for (int i = 0; i < 60; ++i) world.stepSimulation(1.0f / 240, 0);
+  EXPECT_LT(ball.getWorldTransform().getOrigin().y(), 0.05);  // it falls through the plane now
+  releaseSdfccdAlgorithms(&world);                            // twice: nothing to do
+  world.removeRigidBody(&ball);
+  world.removeRigidBody(&ground);
+}
+
+// A second registration on the same world replaces the first (no stale action or algorithm).
+TEST(Registration, RegisteringTwiceReplacesTheFirst) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  std::weak_ptr<SdfccdContactSystem> first = registerSdfccdAlgorithms(&world);
+  EXPECT_FALSE(first.expired());  // kept by the registration
+  auto second = registerSdfccdAlgorithms(&world);
+  EXPECT_TRUE(first.expired());
+  // Steps with a body in contact: a left-over action or algorithm of the first system would be a use-after-free
+  // (ASan), and the second system sees the contacts.
+  btStaticPlaneShape planeShape(btVector3(0, 1, 0), 0);
+  btRigidBody ground(0, nullptr, &planeShape);
+  world.addRigidBody(&ground);
+  SdfccdShape shape(smallSphereModel());
+  btRigidBody ball(1, nullptr, &shape, btVector3(0.004f, 0.004f, 0.004f));
+  ball.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.1f, 0)));
+  world.addRigidBody(&ball);
+  for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
+  EXPECT_GT(second->statistics().ccdQueries, 0);
+  auto third = registerSdfccdAlgorithms(&world);  // with live pairs: their algorithms are recreated
+  for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
+  EXPECT_GT(third->statistics().ccdQueries, 0);
+  EXPECT_NEAR(ball.getWorldTransform().getOrigin().y(), 0.1, 0.01);
+  releaseSdfccdAlgorithms(&world);
+  world.removeRigidBody(&ball);
+  world.removeRigidBody(&ground);
+}
+
+// Bullet's multi-threaded world and dispatcher are refused with a clear error.
+TEST(Registration, MultiThreadedWorldIsRefused) {
+  // Bullet's Mt classes need a task scheduler to be constructed; the sequential one, restored afterwards.
+  btITaskScheduler* const previousScheduler = btGetTaskScheduler();
+  btSetTaskScheduler(btGetSequentialTaskScheduler());
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcherMt dispatcherMt(&configuration);
+  EXPECT_THROW(registerSdfccdAlgorithms(&dispatcherMt), Error);
+  btCollisionDispatcher dispatcher(&configuration);
+  btDbvtBroadphase broadphase;
+  btConstraintSolverPoolMt pool(1);
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorldMt world(&dispatcher, &broadphase, &pool, &solver, &configuration);
+  try {
+    registerSdfccdAlgorithms(&world);
+    ADD_FAILURE() << "btDiscreteDynamicsWorldMt was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("btDiscreteDynamicsWorldMt"), std::string::npos) << e.what();
+  }
+  btSetTaskScheduler(previousScheduler);
 }
 
 }  // namespace

@@ -1,20 +1,46 @@
-# Installs the build tree into WORK_DIR/prefix, then configures, builds and runs the consumer project.
+# Installs the build tree into WORK_DIR/prefix, then configures, builds and runs two projects against that
+# prefix alone: the consumer (every exported target; a Bullet world) and demos/examples (hello_world, whose
+# report of contacts is checked). Inputs: BUILD_DIR, SOURCE_DIR (tests/consumer), EXAMPLES_DIR, ASSETS_DIR,
+# WORK_DIR.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix
                 RESULT_VARIABLE rc OUTPUT_QUIET)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cmake --install failed (${rc})")
 endif()
-execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix
-                RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "configuring the consumer against the installed sdfccd failed (${rc})")
-endif()
-execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "building the consumer failed (${rc})")
-endif()
-execute_process(COMMAND ${WORK_DIR}/build/consumer RESULT_VARIABLE rc)
+
+# Configures and builds the project in `source` against the prefix, in WORK_DIR/`name`.
+function(build_against_prefix name source)
+  execute_process(COMMAND ${CMAKE_COMMAND} -S ${source} -B ${WORK_DIR}/${name} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix
+                          -DCMAKE_BUILD_TYPE=Release -DSDFCCD_ASSETS_DIR=${ASSETS_DIR} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "configuring ${name} against the installed sdfccd failed (${rc})")
+  endif()
+  execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/${name} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "building ${name} against the installed sdfccd failed (${rc})")
+  endif()
+endfunction()
+
+build_against_prefix(consumer ${SOURCE_DIR})
+execute_process(COMMAND ${WORK_DIR}/consumer/consumer RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the consumer failed (${rc})")
 endif()
+
+build_against_prefix(examples ${EXAMPLES_DIR})
+execute_process(COMMAND ${WORK_DIR}/examples/hello_world ${ASSETS_DIR}/meshes/bunny.off RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out)
+message("${out}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "hello_world failed (${rc})")
+endif()
+# The contacts sdfccd supports today: bunny-ground, bunny-bunny, and Bullet's own box-ground.
+# (bunny-on-cylinder touched cylinder and bunny-on-ramp touched ramp need the new shape pairs of issue 15,
+# item 1; they are not asserted yet.)
+foreach(expected "bunny-1 touched ground" "bunny-1 touched bunny-2" "box touched ground")
+  string(FIND "${out}" "${expected}" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "hello_world did not report \"${expected}\"")
+  endif()
+endforeach()

@@ -11,6 +11,10 @@
 /// Tunnelling check (tunneledBodies()): a dynamic body tunnelled when its centre of mass is below the ground
 /// plane, or on the other side of a static thin body ("plate": smallest extent under a quarter of the next)
 /// than it started, within the plate's extent. Heuristic but exact for the shipped scenes.
+///
+/// Ownership: a SceneWorld owns its Bullet world, dispatcher, shapes and bodies; the models are shared
+/// (std::shared_ptr<const BodyModel>); its contact system is registered with its world and released in its
+/// destructor. References returned by world(), contacts() and body accessors live as long as the SceneWorld.
 #pragma once
 
 #include <cstdint>

@@ -8,6 +8,9 @@
 /// pool; scratch memory lives in the contact system. It owns one persistent manifold through which contacts are
 /// reported and, in solver mode, up to three more (one per contact cluster) behind one pointer, released when unused
 /// and in the destructor.
+///
+/// Ownership: users never create one; the dispatcher does, through the create functions the contact system owns
+/// (registerSdfccdAlgorithms), and frees it with the pair. It points at the contact system without owning it.
 #pragma once
 
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>

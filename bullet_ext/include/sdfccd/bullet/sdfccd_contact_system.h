@@ -40,7 +40,8 @@
 /// their pairs (time_of_impact_clamp.h). Compound children each get their own pose (motion_prediction.h).
 ///
 /// Thread safety: one system per world; the narrowphase must be single threaded (btDiscreteDynamicsWorld,
-/// not btDiscreteDynamicsWorldMt). Models are shared read-only.
+/// not btDiscreteDynamicsWorldMt: registration refuses the Mt world and dispatcher). Models are shared read-only.
+/// Ownership: see registerSdfccdAlgorithms() at the end of this file.
 #pragma once
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -122,6 +123,19 @@ struct SdfccdContactSettings {
   int shadowLinearEvery = 0;
 };
 
+/// One body's penalty parameters (penalty mode), overriding the world's SdfccdContactSettings::penalty; an unset
+/// field keeps the world's value. A pair combines its two bodies' values (a body without an override brings the
+/// world's): stiffnesses like two springs in series, normalised so that equal values give that value
+/// (2 a b / (a + b)); damping ratios and per-point damping by their mean. A pair where neither body has an
+/// override uses the world's settings unchanged. The shell's density is the model's (BodyModelSettings::points).
+struct SdfccdBodyContact {
+  std::optional<double> stiffness;         ///< N/m per point (PenaltySettings::stiffness), >= 0
+  std::optional<double> stiffnessPerArea;  ///< N/m^3 (PenaltySettings::stiffnessPerArea; 0: per-point law), >= 0
+  std::optional<double> damping;           ///< N s/m per point (PenaltySettings::damping), >= 0
+  std::optional<double> dampingRatio;      ///< zeta in [0, 2] (PenaltySettings::dampingRatio); replaces the
+                                           ///< restitution-derived ratio for the pair
+};
+
 /// One (shell body, field body) role of a pair over the last step: the contact report.
 struct SdfccdPairContact {
   const btCollisionObject* shellObject = nullptr;
@@ -181,8 +195,17 @@ class SdfccdContactSystem : public btActionInterface {
   /// cylinders and cones; the ConvexPolytopeField of its hull for any other convex shape). Triangle meshes and
   /// terrain: our shell against the triangles near our body, their vertices against our field. Any other X
   /// (bullet_shape_fields.h) is announced once (setLogCallback) and counted in unsupportedPairs. The
-  /// create functions are owned by this object: keep it alive as long as the dispatcher.
+  /// create functions are owned by this object: keep it alive as long as the dispatcher (registerSdfccdAlgorithms()
+  /// does this for you).
   void registerWith(btCollisionDispatcher& dispatcher);
+
+  /// Per-body penalty parameters (see SdfccdBodyContact), taking effect at the next step. The body is a key only
+  /// (not owned, never dereferenced): clear its entry when the body is destroyed, or a new body at its address
+  /// inherits it. Throws sdfccd::Error on a null body or bad values.
+  void setBodyContact(const btCollisionObject* body, const SdfccdBodyContact& contact);
+  void clearBodyContact(const btCollisionObject* body);
+  /// The body's override, or null.
+  const SdfccdBodyContact* bodyContact(const btCollisionObject* body) const;
 
   /// btActionInterface: clamping and impulses after integrateTransforms (see the file comment).
   void updateAction(btCollisionWorld* world, btScalar timeStep) override;
@@ -235,6 +258,8 @@ class SdfccdContactSystem : public btActionInterface {
   /// Per-area law: adds this role's stiffness and damping (m_scratch.coefficients) to its bodies' next load.
   void addContactLoad(const Record& record, double roleScale);
   static ImpactBody impactBody(const BodyStep& body);
+  /// The world's penalty settings with the two bodies' overrides (setBodyContact) combined.
+  PenaltySettings combinedPenalty(const btCollisionObject* a, const btCollisionObject* b) const;
   static void setVelocities(const BodyStep& body, const ImpactBody& impact);
   /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
   const PointTree& convexShellTree(const btCollisionShape* shape, double fieldCellSize);
@@ -266,6 +291,7 @@ class SdfccdContactSystem : public btActionInterface {
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
   std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
+  std::unordered_map<const btCollisionObject*, SdfccdBodyContact> m_bodyContacts;  // setBodyContact
   std::unique_ptr<detail::ConvexShapeCache> m_convexShapes;                   // other convex shapes' fields and shells
   std::unique_ptr<PointTree> m_meshVertices;       // the current mesh role's vertices (one role at a time)
   SdfccdLogCallback m_log;                         // announcements (stderr unless set)
@@ -292,14 +318,34 @@ class SdfccdContactSystem : public btActionInterface {
   SdfccdContactStatistics m_stats;
 };
 
-/// Creates a contact system, registers its algorithms with `dispatcher` (every pair involving our shape
-/// type, both orders, contacts and closest points) and returns it. Add it to the dynamics world with
-/// `world.addAction(system.get())` — or use the overload below, which does both.
+/// Registration, the one call a Bullet program makes (after creating the world, before stepping it):
+/// @code
+///   sdfccd::registerSdfccdAlgorithms(&world);   // or keep the returned pointer to read contacts and statistics
+/// @endcode
+/// Ownership and lifetime: the dispatcher's registration owns the system (a process-wide table keyed by the
+/// dispatcher holds a std::shared_ptr), so the returned pointer may be dropped: the system lives until the same
+/// dispatcher is registered again or releaseSdfccdAlgorithms() is called. A program that creates many worlds
+/// calls releaseSdfccdAlgorithms(&world) before destroying each (else each keeps its system's memory until its
+/// dispatcher's address is registered again). Register before adding objects: registering twice on a dispatcher
+/// whose pairs already exist releases the first system under their algorithms.
+///
+/// Threads: the narrowphase must run on one thread. A btDiscreteDynamicsWorldMt or a btCollisionDispatcherMt is
+/// refused (sdfccd::Error); use btDiscreteDynamicsWorld with btCollisionDispatcher.
+///
+/// Creates a contact system, registers its algorithms with `dispatcher` (every pair involving our shape type,
+/// both orders, contacts and closest points) and returns it. Add it to the dynamics world with
+/// `world.addAction(system.get())` — or use the overload below, which does both. Throws sdfccd::Error on a null
+/// or multi-threaded dispatcher and on bad settings.
 std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btCollisionDispatcher* dispatcher,
                                                               const SdfccdContactSettings& settings = {});
-/// Registers with the world's dispatcher (must be a btCollisionDispatcher) and adds the system as an action.
-/// Remove it with world.removeAction() before destroying it if the world outlives it.
+/// Registers with the world's dispatcher (must be a btCollisionDispatcher, not the Mt one) and adds the system as
+/// an action. Throws sdfccd::Error on a null or multi-threaded world.
 std::shared_ptr<SdfccdContactSystem> registerSdfccdAlgorithms(btDiscreteDynamicsWorld* world,
                                                               const SdfccdContactSettings& settings = {});
+/// Undoes registerSdfccdAlgorithms(world): removes the action, frees the algorithms of the world's current pairs
+/// that are ours, points every dispatcher entry of our shape type at btEmptyAlgorithm (no contact) and lets the
+/// system go (it is deleted once no returned pointer holds it). The world stays usable. Does nothing when the
+/// world's dispatcher has no registration. Call it before destroying the world, not after.
+void releaseSdfccdAlgorithms(btDiscreteDynamicsWorld* world);
 
 }  // namespace sdfccd

@@ -20,6 +20,23 @@
 ///
 /// Scaling: uniform scale is baked into the model when it is built (BodyModelSettings::scale);
 /// setLocalScaling() accepts only (1, 1, 1) and throws sdfccd::Error otherwise.
+///
+/// Queries (btCollisionWorld::rayTest, convexSweepTest): Bullet hands a concave shape only
+/// processAllTriangles(callback, box). The shape recognises Bullet's ray and convex-cast callbacks
+/// (btTriangleRaycastCallback, btTriangleConvexcastCallback) and runs the field's exact segment query to find
+/// where along the ray (or the swept shape's path) the surface can be; only the mesh triangles there go to
+/// Bullet's own per-triangle test (sdfccd_shape_queries.cpp). The hits are the triangle mesh's: same hit
+/// fraction, the triangle's normal (flipped towards the ray's start as Bullet does), the triangle's index in
+/// LocalShapeInfo::m_triangleIndex (part 0), Bullet's flags honoured. A ray starting inside reports where it
+/// leaves the surface, as for a btBvhTriangleMeshShape; an all-hits ray callback sees every crossing once. Sweeps
+/// report the closest hit (Bullet's convex-cast callback never lowers its m_hitFraction, so the shape runs
+/// Bullet's per-triangle cast itself to stop there; farther hits are not reported). Cost: at most that of a
+/// btBvhTriangleMeshShape of the same mesh (`sdfccd bench queries`). Any other triangle callback gets every
+/// triangle overlapping its box.
+///
+/// Ownership: the shape shares the model (std::shared_ptr); the user owns the shape and must keep it alive as
+/// long as a btCollisionObject uses it (Bullet's rule for every shape). The query tables are built on the first
+/// ray or sweep (thread safe) and owned by the shape.
 #pragma once
 
 #include <BulletCollision/CollisionShapes/btConcaveShape.h>
@@ -43,6 +60,13 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
   const std::shared_ptr<const BodyModel>& modelPtr() const {
     return m_model;
   }
+  /// The mesh's box in the body frame, without the margin (as btBvhTriangleMeshShape::getLocalAabbMin/Max).
+  const btVector3& getLocalAabbMin() const {
+    return m_localAabbMin;
+  }
+  const btVector3& getLocalAabbMax() const {
+    return m_localAabbMax;
+  }
 
   void getAabb(const btTransform& worldFromBody, btVector3& aabbMin, btVector3& aabbMax) const override;
   /// Throws sdfccd::Error unless `scaling` is (1, 1, 1): scale the model instead.
@@ -55,12 +79,25 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
   const char* getName() const override {
     return "SdfccdShape";
   }
-  /// The mesh triangles whose box overlaps [aabbMin, aabbMax] (body frame): ray tests, sweeps, debug draw.
+  /// Ray tests and convex sweeps: the triangles near the surface crossings the field finds (see "Queries"
+  /// above); any other callback (debug draw, ...): the mesh triangles whose box overlaps [aabbMin, aabbMax]
+  /// (body frame).
   void processAllTriangles(btTriangleCallback * callback, const btVector3& aabbMin, const btVector3& aabbMax)
       const override;
 
  private:
+  struct QueryAccel;
+  static std::shared_ptr<QueryAccel> makeQueryAccel();
+  const QueryAccel& queryAccel() const;
+  /// Ray or sweep callbacks: true when `callback` was one and has been served.
+  bool processQuery(btTriangleCallback * callback) const;
+  /// Hands `callback` the triangles within `radius` (plus the field's band) of the path from -> to (body frame)
+  /// wherever the field allows a crossing, up to the callback's current `hitFraction`.
+  void feedTrianglesNear(btTriangleCallback * callback, const btScalar& hitFraction, const Vec3& from, const Vec3& to,
+                         double radius) const;
+
   std::shared_ptr<const BodyModel> m_model;
+  std::shared_ptr<QueryAccel> m_queryAccel;
   btVector3 m_localScaling{1, 1, 1};
   btVector3 m_localAabbMin;
   btVector3 m_localAabbMax;

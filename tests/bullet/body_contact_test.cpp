@@ -1,0 +1,115 @@
+// Per-body penalty parameters (SdfccdContactSystem::setBodyContact): a pair combines its bodies' values with the
+// world's as documented (springs in series, normalised; means for damping), and a body without an override
+// leaves the world's settings untouched.
+#include <btBulletDynamicsCommon.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+#include "sdfccd/error.h"
+#include "sdfccd/mesh/procedural_meshes.h"
+
+namespace sdfccd {
+namespace body_contact_test {
+
+std::shared_ptr<const BodyModel> ballModel() {
+  static const std::shared_ptr<const BodyModel> model = [] {
+    BodyModelSettings s;
+    s.resolution = 24;
+    s.points = 300;
+    return BodyModel::buildFromMesh(makeIcosphere(0.1, 3), s);
+  }();
+  return model;
+}
+
+/// A 1 kg ball of radius 0.1 m dropped from 5 mm onto a static plane, in penalty mode with the per-area law.
+class BallOnPlane {
+ public:
+  BallOnPlane(double worldStiffnessPerArea, const SdfccdBodyContact* ballOverride) : shape_(ballModel()) {
+    world_.setGravity(btVector3(0, -9.81f, 0));
+    SdfccdContactSettings settings;
+    settings.mode = SdfccdContactMode::Penalty;
+    settings.penalty.stiffnessPerArea = worldStiffnessPerArea;
+    contacts_ = registerSdfccdAlgorithms(&world_, settings);
+    world_.addRigidBody(&ground_);
+    btVector3 inertia;
+    shape_.calculateLocalInertia(1, inertia);
+    ball_ = std::make_unique<btRigidBody>(1, nullptr, &shape_, inertia);
+    ball_->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.105f, 0)));
+    ball_->setActivationState(DISABLE_DEACTIVATION);
+    world_.addRigidBody(ball_.get());
+    if (ballOverride != nullptr) contacts_->setBodyContact(ball_.get(), *ballOverride);
+  }
+  ~BallOnPlane() {
+    world_.removeRigidBody(ball_.get());
+    world_.removeRigidBody(&ground_);
+    releaseSdfccdAlgorithms(&world_);
+  }
+  /// Steps 1 s at 1 kHz; returns the ball's height.
+  double settle() {
+    for (int i = 0; i < 1000; ++i) world_.stepSimulation(0.001f, 0);
+    return double(ball_->getWorldTransform().getOrigin().y());
+  }
+  SdfccdContactSystem& contacts() { return *contacts_; }
+  const btRigidBody* ball() const { return ball_.get(); }
+
+ private:
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_{&configuration_};
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
+  std::shared_ptr<SdfccdContactSystem> contacts_;
+  btStaticPlaneShape planeShape_{btVector3(0, 1, 0), 0};
+  btRigidBody ground_{0, nullptr, &planeShape_};
+  SdfccdShape shape_;
+  std::unique_ptr<btRigidBody> ball_;
+};
+
+// A ball with stiffness k0/4 against a plane at the world's k0 rests exactly as a ball in a world of
+// 2 (k0/4) k0 / (k0/4 + k0) = 0.4 k0 without overrides, and deeper than at k0.
+TEST(BodyContact, StiffnessCombinesLikeSpringsInSeries) {
+  const double k0 = PenaltySettings::trustworthy().stiffnessPerArea;
+  SdfccdBodyContact soft;
+  soft.stiffnessPerArea = 0.25 * k0;
+  BallOnPlane overridden(k0, &soft);
+  BallOnPlane equivalent(0.4 * k0, nullptr);
+  BallOnPlane stiff(k0, nullptr);
+  const double hOverridden = overridden.settle();
+  const double hEquivalent = equivalent.settle();
+  const double hStiff = stiff.settle();
+  EXPECT_NEAR(hOverridden, hEquivalent, 1e-6);
+  EXPECT_LT(hOverridden, hStiff - 1e-5);  // softer: deeper
+  EXPECT_NEAR(hStiff, 0.1, 0.005);        // resting on the plane
+}
+
+// Overrides equal to the world's change nothing; clearing one restores the world's settings.
+TEST(BodyContact, EqualOverrideAndClear) {
+  const double k0 = PenaltySettings::trustworthy().stiffnessPerArea;
+  SdfccdBodyContact same;
+  same.stiffnessPerArea = k0;
+  BallOnPlane withSame(k0, &same);
+  BallOnPlane plain(k0, nullptr);
+  EXPECT_EQ(withSame.settle(), plain.settle());
+  ASSERT_NE(withSame.contacts().bodyContact(withSame.ball()), nullptr);
+  withSame.contacts().clearBodyContact(withSame.ball());
+  EXPECT_EQ(withSame.contacts().bodyContact(withSame.ball()), nullptr);
+}
+
+TEST(BodyContact, BadValuesAreRefused) {
+  SdfccdContactSystem system;
+  btCollisionObject body;
+  SdfccdBodyContact bad;
+  bad.stiffness = -1.0;
+  EXPECT_THROW(system.setBodyContact(&body, bad), Error);
+  bad = {};
+  bad.dampingRatio = 3.0;
+  EXPECT_THROW(system.setBodyContact(&body, bad), Error);
+  EXPECT_THROW(system.setBodyContact(nullptr, {}), Error);
+  EXPECT_NO_THROW(system.setBodyContact(&body, {}));
+}
+
+}  // namespace body_contact_test
+}  // namespace sdfccd
