@@ -18,9 +18,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <type_traits>
 
 #include "bullet_conversions.h"
+#include "bullet_shape_fields.h"
 #include "contact_step.h"
 #include "convex_fields.h"
 #include "motion_prediction.h"
@@ -34,9 +36,8 @@
 
 namespace sdfccd {
 
-using detail::isSupportedConvex;
-using detail::isSupportedConvexType;
 using detail::kMaxClampPoints;
+using detail::ShapeKind;
 using detail::toBt;
 using detail::toRigid;
 using detail::toVec3;
@@ -49,13 +50,11 @@ double steadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-bool isPlane(const btCollisionShape* shape) {
-  return shape->getShapeType() == STATIC_PLANE_PROXYTYPE;
-}
-
 }  // namespace
 
-SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings) {
+SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings)
+    : m_convexShapes(std::make_unique<detail::ConvexShapeCache>()),
+      m_log([](const std::string& line) { std::cerr << line << '\n'; }) {
   setSettings(settings);
 }
 
@@ -105,14 +104,9 @@ void SdfccdContactSystem::registerWith(btCollisionDispatcher& dispatcher) {
   btCollisionAlgorithmCreateFunc* contacts = m_createFuncs[0].get();
   btCollisionAlgorithmCreateFunc* closest = m_createFuncs[1].get();
   btCollisionAlgorithmCreateFunc* empty = m_createFuncs[2].get();
-  const int ours = CUSTOM_CONCAVE_SHAPE_TYPE;
-  for (int other = 0; other < MAX_BROADPHASE_COLLISION_TYPES; ++other) {
-    const bool supported = other == ours || other == STATIC_PLANE_PROXYTYPE || isSupportedConvexType(other);
-    dispatcher.registerCollisionCreateFunc(ours, other, supported ? contacts : empty);
-    dispatcher.registerCollisionCreateFunc(other, ours, supported ? contacts : empty);
-    dispatcher.registerClosestPointsCreateFunc(ours, other, supported ? closest : empty);
-    dispatcher.registerClosestPointsCreateFunc(other, ours, supported ? closest : empty);
-  }
+  // Ours against every type but compounds (Bullet's compound algorithms dispatch their children back here)
+  // and btEmptyShape: processPair decides, and announces what it cannot handle (bullet_shape_fields.h).
+  detail::registerOurPairs(dispatcher, CUSTOM_CONCAVE_SHAPE_TYPE, contacts, closest, empty);
 }
 
 SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionObjectWrapper* wrap, double timeStep,
@@ -154,8 +148,11 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
                                       bool closestPointsOnly) {
   const btCollisionShape* shape0 = wrap0->getCollisionShape();
   const btCollisionShape* shape1 = wrap1->getCollisionShape();
-  const bool ours0 = isSdfccdShape(shape0);
-  const bool ours1 = isSdfccdShape(shape1);
+  const ShapeKind kind0 = detail::shapeKind(shape0);
+  const ShapeKind kind1 = detail::shapeKind(shape1);
+  const bool ours0 = kind0 == ShapeKind::Ours;
+  const bool ours1 = kind1 == ShapeKind::Ours;
+  const ShapeKind otherKind = ours0 ? kind1 : kind0;
   // Solver mode keeps its points across steps (solver_manifolds.cpp); penalty mode reports afresh each step.
   const bool solver = m_settings.mode == SdfccdContactMode::Solver && !closestPointsOnly && solverPair != nullptr;
   if (!solver) {
@@ -163,9 +160,12 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (!closestPointsOnly) manifold->setContactProcessingThreshold(-BT_LARGE_FLOAT);
   }
   resultOut->setPersistentManifold(manifold);
-  const bool other1 = isPlane(shape1) || isSupportedConvex(shape1);
-  if (!(ours0 && (ours1 || other1)) && !(ours1 && (isPlane(shape0) || isSupportedConvex(shape0)))) {
-    ++m_stats.unsupportedPairs;  // e.g. btSdfCollisionShape, which shares our type id
+  // Unsupported: no shape of ours (btSdfCollisionShape shares our type id), a shape we cannot read, or a convex
+  // shape without volume (its shell or field would be null).
+  const bool convexOk = otherKind != ShapeKind::Convex ||
+                        m_convexShapes->field(static_cast<const btConvexShape*>(ours0 ? shape1 : shape0)) != nullptr;
+  if (!(ours0 || ours1) || otherKind == ShapeKind::Unsupported || !convexOk) {
+    reportUnsupported(shape0, shape1);
     return;
   }
   const double timeStep = dispatchInfo.m_timeStep > 0 ? double(dispatchInfo.m_timeStep) : 1.0 / 60.0;
@@ -223,7 +223,8 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     const double e = double(gCalculateCombinedRestitutionCallback(object0, object1));
     dampingRatio = dampingRatioFromRestitution(std::clamp(e, 0.0, 1.0));
   }
-  const bool bothRoles = (ours0 && ours1) || isSupportedConvex(ours0 ? shape1 : shape0);
+  const bool convexOther = otherKind == ShapeKind::AnalyticConvex || otherKind == ShapeKind::Convex;
+  const bool bothRoles = (ours0 && ours1) || convexOther;
   int roleIndex = 0;
   auto runRole = [&](std::size_t shell, std::size_t field, const btCollisionObjectWrapper* shellWrap,
                      const btCollisionObjectWrapper* fieldWrap, bool shellIsBody0) {
@@ -246,8 +247,14 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (isSdfccdShape(fieldShape)) {
       const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
-      role.shellTree = isSdfccdShape(shellShape) ? &static_cast<const SdfccdShape*>(shellShape)->model().tree()
-                                                 : &convexShellTree(shellShape, fieldModel.cellSize());
+      if (isSdfccdShape(shellShape)) {
+        role.shellTree = &static_cast<const SdfccdShape*>(shellShape)->model().tree();
+      } else {
+        role.shellTree = detail::shapeKind(shellShape) == ShapeKind::Mesh
+                             ? meshVertexTree(role, shellShape, fieldShape)
+                             : otherShellTree(shellShape, fieldModel.cellSize());
+        if (role.shellTree == nullptr) return;
+      }
       respond(role, fieldModel.field(), fieldModel.cellSize());
       return;
     }
@@ -255,21 +262,31 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     const BodyModel& shellModel = static_cast<const SdfccdShape*>(shellShape)->model();
     role.shellTree = &shellModel.tree();
     const double shellCell = shellModel.cellSize();
-    if (isPlane(fieldShape)) {
+    const ShapeKind fieldKind = detail::shapeKind(fieldShape);
+    if (fieldKind == ShapeKind::Plane) {
       const auto* plane = static_cast<const btStaticPlaneShape*>(fieldShape);
       const PlaneField planeField(toVec3(plane->getPlaneNormal()), double(plane->getPlaneConstant()));
       respond(role, planeField, shellCell);
-    } else {
+    } else if (fieldKind == ShapeKind::AnalyticConvex) {
       withConvexField(fieldShape, [&](const auto& convexField) { respond(role, convexField, shellCell); });
+    } else if (fieldKind == ShapeKind::Convex) {  // a cylinder's or cone's exact field, or the hull's
+      if (const std::optional<RevolvedConvexField> revolved = detail::revolvedField(fieldShape)) {
+        respond(role, *revolved, shellCell);
+      } else {
+        respond(role, *m_convexShapes->field(static_cast<const btConvexShape*>(fieldShape)), shellCell);
+      }
+    } else {  // a triangle mesh or terrain: the triangles near the shell's motion
+      const double reach = std::max({m_settings.penalty.sigma, m_settings.maxSpeculativeMargin, 0.0}) + shellCell;
+      const std::optional<TriangleSetField> mesh = meshFieldNear(role, shellShape, fieldShape, reach);
+      if (mesh) respond(role, *mesh, shellCell);
     }
   };
   // Every body with a shell takes the shell role once: ours always; a convex only against our field.
   if (ours0 || ours1)
     runRole(ours0 ? index0 : index1, ours0 ? index1 : index0, ours0 ? wrap0 : wrap1, ours0 ? wrap1 : wrap0, ours0);
-  const btCollisionShape* second = ours0 ? shape1 : shape0;
   if (ours0 && ours1) {
     runRole(index1, index0, wrap1, wrap0, false);
-  } else if (isSupportedConvex(second)) {
+  } else if (convexOther || otherKind == ShapeKind::Mesh) {  // a mesh's vertices: at full strength (roleScale)
     runRole(ours0 ? index1 : index0, ours0 ? index0 : index1, ours0 ? wrap1 : wrap0, ours0 ? wrap0 : wrap1, !ours0);
   }
   if (solver) writeSolverManifolds(swapped ? wrap1 : wrap0, swapped ? wrap0 : wrap1, manifold, *solverPair);

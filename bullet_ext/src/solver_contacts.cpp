@@ -235,6 +235,12 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
 
 template void SdfccdContactSystem::collectSolverCandidates<GridField>(const Role&, const GridField&, double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<PlaneField>(const Role&, const PlaneField&, double, bool);
+template void SdfccdContactSystem::collectSolverCandidates<ConvexPolytopeField>(const Role&, const ConvexPolytopeField&,
+                                                                                double, bool);
+template void SdfccdContactSystem::collectSolverCandidates<TriangleSetField>(const Role&, const TriangleSetField&,
+                                                                             double, bool);
+template void SdfccdContactSystem::collectSolverCandidates<RevolvedConvexField>(const Role&, const RevolvedConvexField&,
+                                                                                double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<BoxField>(const Role&, const BoxField&, double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<SphereField>(const Role&, const SphereField&, double, bool);
 template void SdfccdContactSystem::collectSolverCandidates<CapsuleField>(const Role&, const CapsuleField&, double,

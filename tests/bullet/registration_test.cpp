@@ -1,5 +1,5 @@
 // The dispatcher finds our algorithm for every pair involving SdfccdShape, in both orders, for contacts and
-// closest points; other partners get no contact (and never Bullet's btSdfCollisionShape cast).
+// closest points (compounds keep Bullet's compound algorithms, which dispatch their children back to ours).
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcherMt.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
@@ -61,9 +61,9 @@ TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
     EXPECT_EQ(find(dispatcher, &plane, &ours, type), Found::Ours);
     EXPECT_EQ(find(dispatcher, &ours, &box, type), Found::Ours);  // convex pairs: convex_pairs_test.cpp
     EXPECT_EQ(find(dispatcher, &sphere, &ours, type), Found::Ours);
-    // Unsupported partners: no contact, instead of Bullet's cast to btSdfCollisionShape.
-    EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Empty);
-    EXPECT_EQ(find(dispatcher, &cylinder, &ours, type), Found::Empty);
+    // Every other shape gets our algorithm too (other_shapes_test.cpp), never Bullet's cast to btSdfCollisionShape.
+    EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Ours);
+    EXPECT_EQ(find(dispatcher, &cylinder, &ours, type), Found::Ours);
   }
   EXPECT_EQ(ours.getShapeType(), CUSTOM_CONCAVE_SHAPE_TYPE);
   EXPECT_TRUE(isSdfccdShape(&ours));
@@ -88,9 +88,9 @@ TEST(Registration, ConvexShapesInBothOrders) {
       EXPECT_EQ(find(dispatcher, &ours, convex, type), Found::Ours) << convex->getName();
       EXPECT_EQ(find(dispatcher, convex, &ours, type), Found::Ours) << convex->getName();
     }
-    // Not supported: no contact (and never Bullet's cast to btSdfCollisionShape).
-    EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Empty);
-    EXPECT_EQ(find(dispatcher, &cone, &ours, type), Found::Empty);
+    // Any other convex shape (issue 15): ours too, through its support points (other_shapes_test.cpp).
+    EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Ours);
+    EXPECT_EQ(find(dispatcher, &cone, &ours, type), Found::Ours);
   }
 }
 

@@ -6,7 +6,9 @@
 /// 1. Narrowphase (SdfccdCollisionAlgorithm -> processPair): for each pair, each body in each role (shell of
 ///    A vs field of B, then shell of B vs field of A; a btStaticPlaneShape is an analytic PlaneField and only
 ///    a field; a btBoxShape, btSphereShape or btCapsuleShape is an analytic field and points sampled on its
-///    surface, so it takes both roles like ours), the rigid CCD runs over the step's motion: start = the
+///    surface, so it takes both roles like ours, and so does any other btConvexShape; a triangle mesh or
+///    terrain is its triangles near our body as a field and its vertices there as points: registerWith()),
+///    the rigid CCD runs over the step's motion: start = the
 ///    body's current transform, end = its motion integrated over the step from the velocity *plus* the forces
 ///    Bullet will add (gravity and applied forces, the same symplectic Euler step integrateVelocities/
 ///    integrateTransforms perform), which is the actual end of the step because our contacts add no solver
@@ -45,14 +47,17 @@
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "sdfccd/ccd/rigid_ccd.h"
+#include "sdfccd/field/polytope_fields.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/response/contact_mode.h"
 #include "sdfccd/response/contact_query.h"
@@ -80,6 +85,12 @@ struct btDispatcherInfo;
 namespace sdfccd {
 
 class SdfccdShape;
+namespace detail {
+class ConvexShapeCache;
+}
+
+/// Receives one line of text: an unsupported pair's announcement (SdfccdContactSystem::setLogCallback).
+using SdfccdLogCallback = std::function<void(const std::string& line)>;
 
 struct SdfccdSolverPair;
 
@@ -177,10 +188,13 @@ class SdfccdContactSystem : public btActionInterface {
   void setSettings(const SdfccdContactSettings& settings);
 
   /// Overwrites every dispatcher entry involving CUSTOM_CONCAVE_SHAPE_TYPE (see sdfccd_shape.h). Our
-  /// algorithm for (ours, X) and (X, ours), contacts and closest points, with X = ours, btStaticPlaneShape,
-  /// btBoxShape, btSphereShape, btCapsuleShape (X/Y/Z); btEmptyAlgorithm for every other X. A convex X takes
+  /// algorithm for (ours, X) and (X, ours), contacts and closest points, for every X but compounds (Bullet's
+  /// compound algorithms stay, and dispatch each child pair back to ours) and btEmptyShape. A convex X takes
   /// both roles like ours: its surface points (sampled once per size, convexPointSpacingCells) against our
-  /// field, and our shell against its exact analytic field (BoxField, SphereField, CapsuleField). The
+  /// field, and our shell against its exact field (BoxField, SphereField, CapsuleField; RevolvedConvexField for
+  /// cylinders and cones; the ConvexPolytopeField of its hull for any other convex shape). Triangle meshes and
+  /// terrain: our shell against the triangles near our body, their vertices against our field. Any other X
+  /// (bullet_shape_fields.h) is announced once (setLogCallback) and counted in unsupportedPairs. The
   /// create functions are owned by this object: keep it alive as long as the dispatcher (registerSdfccdAlgorithms()
   /// does this for you).
   void registerWith(btCollisionDispatcher& dispatcher);
@@ -204,6 +218,10 @@ class SdfccdContactSystem : public btActionInterface {
   double lastStepMaxPenetrationCells() const { return m_lastMaxPenetrationCells; }
   int lastStepClamps() const { return m_lastClamps; }
   const SdfccdContactStatistics& statistics() const { return m_stats; }
+  /// Where the one-line announcements go (an unsupported pair of shape types, once per type pair and system);
+  /// stderr by default; an empty callback silences them. The pairs are counted in
+  /// SdfccdContactStatistics::unsupportedPairs either way.
+  void setLogCallback(SdfccdLogCallback callback) { m_log = std::move(callback); }
 
   /// Called by SdfccdCollisionAlgorithm. `closestPointsOnly`: a contactTest query: report the points inside
   /// at the current poses, change nothing.
@@ -245,6 +263,19 @@ class SdfccdContactSystem : public btActionInterface {
   static void setVelocities(const BodyStep& body, const ImpactBody& impact);
   /// The surface points of a supported convex shape at the spacing for a field of `fieldCellSize` (cached).
   const PointTree& convexShellTree(const btCollisionShape* shape, double fieldCellSize);
+  /// The shell of a shape that is not ours (box, sphere, capsule or any other convex shape; cached), spaced for
+  /// a field of `fieldCellSize`; null for a degenerate convex shape (other_shape_roles.cpp).
+  const PointTree* otherShellTree(const btCollisionShape* shape, double fieldCellSize);
+  /// Counts an unsupported pair and announces its shape types once (other_shape_roles.cpp).
+  void reportUnsupported(const btCollisionShape* shape0, const btCollisionShape* shape1);
+  /// A triangle mesh's role as field: its triangles within `pad` of the box the shell sweeps over the step
+  /// (relative to the mesh), in the mesh's frame; nothing when there are none (other_shape_roles.cpp).
+  std::optional<TriangleSetField> meshFieldNear(const Role& role, const btCollisionShape* shellShape,
+                                                const btCollisionShape* meshShape, double pad) const;
+  /// A triangle mesh's role as shell: its vertices in the box our body (the role's field) sweeps, each with the
+  /// normal of its triangles turned towards our body; null when there are none (other_shape_roles.cpp).
+  const PointTree* meshVertexTree(const Role& role, const btCollisionShape* meshShape,
+                                  const btCollisionShape* ourShape);
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
@@ -259,9 +290,12 @@ class SdfccdContactSystem : public btActionInterface {
 
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
-  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;
-  std::unordered_map<const btCollisionObject*, SdfccdBodyContact>
-      m_bodyContacts;  // setBodyContact  // by shape type, sizes, spacing
+  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
+  std::unordered_map<const btCollisionObject*, SdfccdBodyContact> m_bodyContacts;  // setBodyContact
+  std::unique_ptr<detail::ConvexShapeCache> m_convexShapes;                   // other convex shapes' fields and shells
+  std::unique_ptr<PointTree> m_meshVertices;       // the current mesh role's vertices (one role at a time)
+  SdfccdLogCallback m_log;                         // announcements (stderr unless set)
+  std::set<std::pair<int, int>> m_announcedPairs;  // shape type pairs announced unsupported
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;

@@ -6,6 +6,7 @@
 #include "ccd/rigid_ccd_query.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/polytope_fields.h"
 
 namespace sdfccd {
 
@@ -40,6 +41,7 @@ bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node
   template bool pointTreeNodeMayCollide<Field>(const PointTree&, const Field&, int, const Rigid&, const Rigid&,      \
                                                const RigidCcdSettings&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_RIGID_CCD)
+SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_RIGID_CCD)
 #undef SDFCCD_INSTANTIATE_RIGID_CCD
 
 }  // namespace sdfccd

@@ -5,6 +5,7 @@
 
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/polytope_fields.h"
 
 namespace sdfccd {
 
@@ -58,6 +59,7 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
   template void queryContacts<Field>(const PointTree&, const Field&, const ShellMotion&, const FieldMotion&, double, \
                                      const ContactQuerySettings&, ContactQueryResult&, const ContactQueryClocks&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_CONTACT_QUERY)
+SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_CONTACT_QUERY)
 #undef SDFCCD_INSTANTIATE_CONTACT_QUERY
 
 }  // namespace sdfccd

@@ -11,6 +11,7 @@
 #include "sdfccd/error.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
+#include "sdfccd/field/polytope_fields.h"
 
 namespace sdfccd {
 
@@ -404,6 +405,7 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
       const std::vector<Vec3>&, const Field&, const RigidCcdResult&, const ShellMotion&, const FieldMotion&, double, \
       const PenaltySettings&, PenaltyRoleInput&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_PENALTY)
+SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 #undef SDFCCD_INSTANTIATE_PENALTY
 
 }  // namespace sdfccd
