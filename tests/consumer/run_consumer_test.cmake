@@ -35,10 +35,10 @@ message("${out}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "hello_world failed (${rc})")
 endif()
-# The contacts sdfccd supports today: bunny-ground, bunny-bunny, and Bullet's own box-ground.
-# (bunny-on-cylinder touched cylinder and bunny-on-ramp touched ramp need the new shape pairs of issue 15,
-# item 1; they are not asserted yet.)
-foreach(expected "bunny-1 touched ground" "bunny-1 touched bunny-2" "box touched ground")
+# Every pair kind of the example: bunny-ground (plane), bunny-bunny, Bullet's own box-ground, a bunny on a
+# btCylinderShape and one on the static btBvhTriangleMeshShape ramp.
+foreach(expected "bunny-1 touched ground" "bunny-1 touched bunny-2" "box touched ground"
+                 "bunny-on-cylinder touched cylinder" "bunny-on-ramp touched ramp")
   string(FIND "${out}" "${expected}" found)
   if(found EQUAL -1)
     message(FATAL_ERROR "hello_world did not report \"${expected}\"")
