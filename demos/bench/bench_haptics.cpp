@@ -45,6 +45,10 @@ struct BenchHapticsOptions {
   double seconds = 0.0;
   bool fig10b = false;   // the stiffness sweep of Fig. 10b instead of the timing sweep
   int fig10bPoints = 0;  // 0: the scene's own shell
+  bool noPassivity = false;
+  std::string direction;     // Fig. 10b: the penalty force's direction ("": the scene's)
+  bool oldGradient = false;  // Fig. 10b: the renderer's former symmetric field-normal contact gradient  // Fig. 10b:
+                             // without the port's passivity controller and force-rate limit
 };
 
 /// Fig. 10b: the largest stable penalty stiffness per point of the peg, continuous vs discrete (stability_sweep.h),
@@ -55,8 +59,16 @@ int runFig10b(const BenchHapticsOptions& o) {
   const std::string sceneName = o.scenes.empty() ? "peg-in-hole" : o.scenes;
   haptics::HapticScene scene = haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json", load);
   if (o.fig10bPoints > 0) haptics::resampleSceneShell(scene, o.fig10bPoints);
-  std::printf("sdfccd bench haptics --fig10b: %s, %d points, virtual time, 1 ms tick\n", sceneName.c_str(),
-              scene.tree->pointCount());
+  if (o.direction == "shell-normal") scene.penalty.contact.direction = PenaltyDirection::ShellNormal;
+  if (o.direction == "field-gradient") scene.penalty.contact.direction = PenaltyDirection::FieldGradient;
+  if (o.direction == "blend") scene.penalty.contact.direction = PenaltyDirection::Blend;
+  scene.penalty.consistentGradient = !o.oldGradient;
+  const char* directions[] = {"shell normal (paper)", "field gradient", "blend"};
+  std::printf(
+      "sdfccd bench haptics --fig10b: %s, %d points, virtual time, 1 ms tick; force direction %s, %s contact "
+      "gradient, passivity %s\n",
+      sceneName.c_str(), scene.tree->pointCount(), directions[static_cast<int>(scene.penalty.contact.direction)],
+      o.oldGradient ? "former symmetric" : "consistent", o.noPassivity ? "off" : "on");
   std::printf("%-17s %10s %7s %9s %9s %9s %8s %6s  %s\n", "method", "k (N/m)", "stable", "sep_cells", "speed",
               "pen_cells", "revers", "insert", "reason");
   double limits[2] = {0.0, 0.0};
@@ -202,6 +214,11 @@ const BenchRegistrar bench_hapticsRegistrar(
           ->check(nonEmpty());
       cmd.add_flag("--fig10b", o->fig10b,
                    "Fig. 10b instead: largest stable penalty stiffness, continuous vs discrete (peg-in-hole)");
+      cmd.add_flag("--no-passivity", o->noPassivity, "Fig. 10b: without the port's passivity controller");
+      cmd.add_option("--fig10b-direction", o->direction, "Fig. 10b: force direction (default: the scene's)")
+          ->check(CLI::IsMember({"shell-normal", "field-gradient", "blend"}));
+      cmd.add_flag("--fig10b-old-gradient", o->oldGradient,
+                   "Fig. 10b: the former symmetric field-normal contact gradient (before issue 16)");
       cmd.add_option("--fig10b-points", o->fig10bPoints, "Fig. 10b: resample the shell (default: the scene's)")
           ->check(CLI::Range(1, 1000000));
       cmd.add_option("--seconds", o->seconds, "Session length (default: the scene's)")->check(positiveUpTo(3600.0));

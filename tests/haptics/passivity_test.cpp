@@ -116,7 +116,9 @@ TEST(PassivityController, SampledStiffWallNeverGainsEnergyBeyondTheBound) {
     EXPECT_GE(on.minEnergy, -on.stats.deficitBound - 1e-15) << k;
     EXPECT_GT(on.stats.controlledTicks, 0);
     EXPECT_GT(on.minEnergy, 0.01 * off.minEnergy) << k;
-    if (k <= limit) EXPECT_GT(on.minEnergy, -1e-4);
+    if (k <= limit) {
+      EXPECT_GT(on.minEnergy, -1e-4);
+    }
     RecordProperty("wall_k_" + std::to_string(int(k)) + "_min_energy_off_J", std::to_string(off.minEnergy));
     RecordProperty("wall_k_" + std::to_string(int(k)) + "_min_energy_on_J", std::to_string(on.minEnergy));
     RecordProperty("wall_k_" + std::to_string(int(k)) + "_deficit_bound_J", std::to_string(on.stats.deficitBound));
@@ -160,7 +162,9 @@ TEST(PassivityController, ConstraintSessionOnAStiffPlaneNeverGainsEnergyBeyondTh
         on.passivity.maxForceStep, off.passivity.minEnergy, off.passivity.maxForceStep);
     // Measured: 14 uJ vs 4.8 mJ at Colgate's limit, 4.0 mJ vs 0.32 J at 10 times it.
     EXPECT_GT(on.passivity.minEnergy, 0.05 * off.passivity.minEnergy) << k;
-    if (k <= limit) EXPECT_GT(on.passivity.minEnergy, -1e-4);
+    if (k <= limit) {
+      EXPECT_GT(on.passivity.minEnergy, -1e-4);
+    }
   }
 }
 
