@@ -82,6 +82,8 @@ int runFig10b(const BenchHapticsOptions& o) {
       std::fflush(stdout);
     }
     limits[m] = sweep.maxStableStiffness;
+    std::printf("%s: largest stable %.3g N/m (below two unstable rungs in a row), %d isolated failures below it\n",
+                haptics::toString(methods[m]), sweep.maxStableStiffness, sweep.isolatedFailures);
   }
   std::printf("largest stable stiffness: continuous %.3g N/m, discrete %.3g N/m, ratio %.2f (paper, Fig. 10b: 2.5)\n",
               limits[0], limits[1], limits[1] > 0.0 ? limits[0] / limits[1] : 0.0);

@@ -96,14 +96,28 @@ StabilitySweep sweepStiffness(const HapticScene& scene, HapticMethod method, dou
   if (!(lowest > 0.0) || !(highest >= lowest) || !(factor > 1.0) || !std::isfinite(highest))
     throw Error("stability sweep: need 0 < lowest <= highest and factor > 1");
   StabilitySweep sweep;
+  int unstableInARow = 0;
+  double lastStable = 0.0;
   for (double k = lowest; k <= highest * (1.0 + 1e-9); k *= factor) {
     sweep.runs.push_back(runAtStiffness(scene, method, k, criteria, base));
-    if (!sweep.runs.back().stable) {
+    if (sweep.runs.back().stable) {
+      lastStable = k;
+      unstableInARow = 0;
+      continue;
+    }
+    ++sweep.isolatedFailures;
+    if (++unstableInARow == 2) {
+      sweep.isolatedFailures -= 2;  // the pair that ends the sweep is the limit, not isolated
       sweep.foundLimit = true;
       break;
     }
-    sweep.maxStableStiffness = k;
   }
+  if (!sweep.foundLimit && unstableInARow == 1) {
+    // The ladder ended on a failure: it counts as the limit.
+    --sweep.isolatedFailures;
+    sweep.foundLimit = true;
+  }
+  sweep.maxStableStiffness = lastStable;
   return sweep;
 }
 
