@@ -9,12 +9,9 @@
 ///   2. the device integrates one symplectic Euler step of dt = 1 / rate under user + rendered wrench.
 /// This is the paper's admittance mode: the device's pose follows from forces.
 ///
-/// Two ways to run the same ticks:
-/// - start(): real time on its own std::thread; each tick waits with sleep_until on the steady clock for its
-///   deadline (deadline n = start + n / rate, no drift). It records the wake-up lateness (jitter) and counts
-///   overruns (a tick that ends after the next deadline; the schedule then skips the missed deadlines
-///   instead of bursting to catch up).
-/// - runVirtual(): the same ticks back to back on the calling thread, no sleeping: deterministic, for tests.
+/// It is a HapticDevice (haptic_device.h): write() is step(). Its own start() / runVirtual() run it with a DeviceLoop
+/// (real time on its own thread with deadlines, or back to back in virtual time); any other runner (TwoLoopRunner,
+/// runHapticSession with a device) drives it the same way.
 ///
 /// Thread safety: while the loop runs (between start() and stop()), only the loop thread touches the device
 /// state; other threads exchange data with the tick handler through LatestValue (latest_value.h).

@@ -14,6 +14,11 @@
 /// (realTime = false, for tests): the same ticks back to back, and the constraint method runs
 /// `simCyclesPerTick` simulation cycles in lockstep inside each tick, so a run is deterministic.
 ///
+/// The loops run on TwoLoopRunner (two_loop_runner.h) with the scene's emulated device or the caller's HapticDevice;
+/// every wrench goes through the device port's PassivityController (passivity.h: energy observer, force-rate limit,
+/// energy-bounding controller; the observer alone when passivityEnabled is false). An exception in a loop ends the
+/// session with summary.error set and the device rendering zero, instead of terminating the process.
+///
 /// Penetration is measured after each simulation step over every shell point (a point query of the tree at
 /// phi <= 0), outside the timed part of the cycle.
 #pragma once

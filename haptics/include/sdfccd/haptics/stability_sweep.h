@@ -52,7 +52,7 @@ StabilityRun runAtStiffness(const HapticScene& scene, HapticMethod method, doubl
                             const StabilityCriteria& criteria = {}, const HapticSessionSettings& base = {});
 
 struct StabilitySweep {
-  std::vector<StabilityRun> runs;  ///< in ladder order, up to and including the two unstable rungs that end it
+  std::vector<StabilityRun> runs;   ///< in ladder order, up to and including the two unstable rungs that end it
   double maxStableStiffness = 0.0;  ///< the last stable rung below them (0: none)
   bool foundLimit = false;          ///< false: no two unstable rungs in a row up to `highest`
   int isolatedFailures = 0;         ///< unstable rungs below the limit, each followed by a stable one
