@@ -129,6 +129,7 @@ TEST(PassivityController, SampledStiffWallNeverGainsEnergyBeyondTheBound) {
 /// `renderStiffness`; passivity on or off.
 HapticSessionSummary pushPlane(double renderStiffness, bool passivity) {
   HapticScene scene = loadHapticScene(test::scenePath("plane-slide.json"));
+  resampleSceneShell(scene, 200);  // a wall needs few points; 10 s stay short under the thread sanitizer
   std::vector<PoseKeyframe> keys;
   for (int i = 0; i <= 40; ++i) {
     PoseKeyframe k;
