@@ -12,6 +12,7 @@
 /// Paper: alpha puzzle, 25,000 points vs a 512^3 field: a cycle under 1 ms (1 kHz); peg in hole (6,691
 /// points, 64^3 field): penalty ~1,000 contacts when fully inserted, constraint always under 10.
 /// The alpha puzzle's field (512 cells on its longest side) is built once and cached in --cache.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -23,6 +24,7 @@
 #include "cli/bench_registry.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/haptics/stability_sweep.h"
 #include "sdfccd/output_file.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI
@@ -41,7 +43,52 @@ struct BenchHapticsOptions {
   std::string points;  // comma-separated; empty: the default sweep
   std::string methods = "constraint,penalty";
   double seconds = 0.0;
+  bool fig10b = false;   // the stiffness sweep of Fig. 10b instead of the timing sweep
+  int fig10bPoints = 0;  // 0: the scene's own shell
+  bool noPassivity = false;
+  std::string direction;     // Fig. 10b: the penalty force's direction ("": the scene's)
+  bool oldGradient = false;  // Fig. 10b: the renderer's former symmetric field-normal contact gradient  // Fig. 10b:
+                             // without the port's passivity controller and force-rate limit
 };
+
+/// Fig. 10b: the largest stable penalty stiffness per point of the peg, continuous vs discrete (stability_sweep.h),
+/// on a geometric ladder of factor 10^(1/10) (about 1.26) from 1e4 N/m.
+int runFig10b(const BenchHapticsOptions& o) {
+  haptics::HapticSceneLoadSettings load;
+  load.cacheDir = o.cache;
+  const std::string sceneName = o.scenes.empty() ? "peg-in-hole" : o.scenes;
+  haptics::HapticScene scene = haptics::loadHapticScene(o.assets + "/scenes/haptics/" + sceneName + ".json", load);
+  if (o.fig10bPoints > 0) haptics::resampleSceneShell(scene, o.fig10bPoints);
+  if (o.direction == "shell-normal") scene.penalty.contact.direction = PenaltyDirection::ShellNormal;
+  if (o.direction == "field-gradient") scene.penalty.contact.direction = PenaltyDirection::FieldGradient;
+  if (o.direction == "blend") scene.penalty.contact.direction = PenaltyDirection::Blend;
+  scene.penalty.consistentGradient = !o.oldGradient;
+  const char* directions[] = {"shell normal (paper)", "field gradient", "blend"};
+  std::printf(
+      "sdfccd bench haptics --fig10b: %s, %d points, virtual time, 1 ms tick; force direction %s, %s contact "
+      "gradient, passivity %s\n",
+      sceneName.c_str(), scene.tree->pointCount(), directions[static_cast<int>(scene.penalty.contact.direction)],
+      o.oldGradient ? "former symmetric" : "consistent", o.noPassivity ? "off" : "on");
+  std::printf("%-17s %10s %7s %9s %9s %9s %8s %6s  %s\n", "method", "k (N/m)", "stable", "sep_cells", "speed",
+              "pen_cells", "revers", "insert", "reason");
+  double limits[2] = {0.0, 0.0};
+  const haptics::HapticMethod methods[2] = {haptics::HapticMethod::Penalty, haptics::HapticMethod::DiscretePenalty};
+  for (int m = 0; m < 2; ++m) {
+    const haptics::StabilitySweep sweep = haptics::sweepStiffness(scene, methods[m], 1e4, 1e9, std::pow(10.0, 0.1));
+    for (const haptics::StabilityRun& r : sweep.runs) {
+      std::printf("%-17s %10.3g %7s %9.3f %9.4f %9.3f %8.3f %6s  %s\n", haptics::toString(methods[m]), r.stiffness,
+                  r.stable ? "yes" : "NO", r.maxSeparationCells, r.maxSpeed, r.maxPenetrationCells, r.reversalFraction,
+                  r.inserted ? "yes" : "no", r.reason.c_str());
+      std::fflush(stdout);
+    }
+    limits[m] = sweep.maxStableStiffness;
+    std::printf("%s: largest stable %.3g N/m (below two unstable rungs in a row), %d isolated failures below it\n",
+                haptics::toString(methods[m]), sweep.maxStableStiffness, sweep.isolatedFailures);
+  }
+  std::printf("largest stable stiffness: continuous %.3g N/m, discrete %.3g N/m, ratio %.2f (paper, Fig. 10b: 2.5)\n",
+              limits[0], limits[1], limits[1] > 0.0 ? limits[0] / limits[1] : 0.0);
+  return 0;
+}
 
 std::vector<std::string> splitList(const std::string& text, const char* what) {
   std::vector<std::string> out;
@@ -78,6 +125,7 @@ std::string loadAverage() {
 }
 
 int runBenchHaptics(const BenchHapticsOptions& o) {
+  if (o.fig10b) return runFig10b(o);
   const std::vector<int> counts = o.points.empty()
                                       ? (o.quick ? std::vector<int>{3000} : std::vector<int>{3000, 6000, 12000, 25000})
                                       : parseCounts(o.points);
@@ -166,6 +214,15 @@ const BenchRegistrar bench_hapticsRegistrar(
           ->check(nonEmpty());
       cmd.add_option("--methods", o->methods, "Comma-separated methods (default constraint,penalty)")
           ->check(nonEmpty());
+      cmd.add_flag("--fig10b", o->fig10b,
+                   "Fig. 10b instead: largest stable penalty stiffness, continuous vs discrete (peg-in-hole)");
+      cmd.add_flag("--no-passivity", o->noPassivity, "Fig. 10b: without the port's passivity controller");
+      cmd.add_option("--fig10b-direction", o->direction, "Fig. 10b: force direction (default: the scene's)")
+          ->check(CLI::IsMember({"shell-normal", "field-gradient", "blend"}));
+      cmd.add_flag("--fig10b-old-gradient", o->oldGradient,
+                   "Fig. 10b: the former symmetric field-normal contact gradient (before issue 16)");
+      cmd.add_option("--fig10b-points", o->fig10bPoints, "Fig. 10b: resample the shell (default: the scene's)")
+          ->check(CLI::Range(1, 1000000));
       cmd.add_option("--seconds", o->seconds, "Session length (default: the scene's)")->check(positiveUpTo(3600.0));
       return std::function<int()>([o, cache]() {
         o->cache = resolveCacheOption(cache, o->cache);

@@ -1,6 +1,7 @@
 /// @file
 /// @brief `sdfccd haptics SCENE --method penalty|constraint|discrete-penalty|discrete-constraint
-/// [--seconds S] [--out DIR] [--virtual-time] [--sim-cycles-per-tick N] [--ccd-threads N] [--cache DIR]`: a scripted,
+/// [--seconds S] [--out DIR] [--virtual-time] [--sim-cycles-per-tick N] [--ccd-threads N] [--no-passivity]
+/// [--max-force-step N] [--rt-priority] [--cache DIR]`: a scripted,
 /// headless 6-DoF haptics session (paper Section 4) with the emulated 1 kHz device.
 ///
 /// @details Real time by default: the device loop runs at its rate on its own thread and, for the constraint
@@ -9,7 +10,10 @@
 /// Prints the summary JSON on stdout; with --out DIR also writes DIR/ticks.csv (one row per haptic tick:
 /// device pose, simulation pose, force and torque on the device, contacts, penetration, QP state) and
 /// DIR/summary.json, each atomically. Exit code 3 when the runaway guard stopped the session (the scene's "guard";
-/// one line on stderr naming the body; the outputs are still written, for the post-mortem).
+/// one line on stderr naming the body; the outputs are still written, for the post-mortem); exit code 4 when an
+/// exception ended a loop (summary "error"; the device rendered zero from then on). The summary also reports the
+/// device port's energy account (passivity.h), the force-rate limit's work, Colgate's stiffness bound and whether the
+/// opt-in real-time priority was granted.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -34,6 +38,9 @@ struct HapticsOptions {
   bool virtualTime = false;
   int simCyclesPerTick = 1;
   int ccdThreads = 1;
+  bool noPassivity = false;
+  bool realTimePriority = false;
+  double maxForceStep = -1.0;  // < 0: the session's default
   std::string cache;
   const CLI::Option* cacheOption = nullptr;  // given: --cache wins, even "" (no cache)
 };
@@ -50,6 +57,10 @@ int runHaptics(const HapticsOptions& o) {
   settings.simCyclesPerTick = o.simCyclesPerTick;
   settings.ccdThreads = o.ccdThreads;
   settings.recordTicks = !o.out.empty();
+  settings.passivityEnabled = !o.noPassivity;
+  if (o.maxForceStep >= 0.0) settings.passivity.maxForceStep = o.maxForceStep;
+  if (o.realTimePriority && o.virtualTime) throw Error("--rt-priority needs real time (not --virtual-time)");
+  settings.realTimePriority = o.realTimePriority;
   haptics::HapticSceneLoadSettings load;
   load.cacheDir = modelCacheFolder(o.cacheOption->count() > 0 ? &o.cache : nullptr);
   checkModelCacheWritable(load.cacheDir);  // before the build, not after it
@@ -69,6 +80,11 @@ int runHaptics(const HapticsOptions& o) {
   }
   std::fwrite(summary.data(), 1, summary.size(), stdout);
   std::fflush(stdout);
+  if (!result.summary.error.empty()) {
+    // An exception in a loop: the device rendered zero from that tick on and both loops were joined.
+    std::fprintf(stderr, "haptics: the session failed (device force set to zero): %s\n", result.summary.error.c_str());
+    return 4;
+  }
   if (result.summary.guardStopped) {
     // The runaway guard (scene key "guard"): the device rendered zero force from that tick on and the loop ended.
     std::fprintf(stderr, "haptics: runaway stopped the session (device force set to zero): %s\n",
@@ -91,6 +107,12 @@ const CommandRegistrar cmd_hapticsRegistrar("haptics", [](CLI::App& app) {
   cmd->add_flag("--virtual-time", o->virtualTime, "Deterministic: no sleeping, simulation in lockstep");
   cmd->add_option("--sim-cycles-per-tick", o->simCyclesPerTick, "Virtual time: simulation cycles per tick (1)");
   cmd->add_option("--ccd-threads", o->ccdThreads, "CCD worker threads (1)");
+  cmd->add_flag("--no-passivity", o->noPassivity,
+                "Without the device port's passivity controller and force-rate limit (the observer still reports)");
+  cmd->add_option("--max-force-step", o->maxForceStep, "Force-rate limit, N per tick (default 1; 0: none)")
+      ->check(CLI::Range(0.0, 1e6));
+  cmd->add_flag("--rt-priority", o->realTimePriority,
+                "Ask for SCHED_FIFO for the haptic loop (opt-in; the summary says whether it was granted)");
   o->cacheOption = cmd->add_option("--cache", o->cache,
                                    "Cache of fields built from meshes (\"\" disables; default $XDG_CACHE_HOME/sdfccd, "
                                    "else ~/.cache/sdfccd)");

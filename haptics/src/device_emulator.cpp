@@ -19,14 +19,6 @@ Vec3 clampNorm(const Vec3& v, double limit) {
 
 }  // namespace
 
-double percentile(std::vector<double> samples, double percent) {
-  if (samples.empty()) return 0.0;
-  const double rank = std::clamp(percent, 0.0, 100.0) / 100.0 * static_cast<double>(samples.size() - 1);
-  const auto k = static_cast<std::size_t>(std::lround(rank));
-  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(k), samples.end());
-  return samples[k];
-}
-
 DeviceEmulator::DeviceEmulator(const DeviceSettings& settings, UserScript script, const Rigid& worldFromDeviceStart)
     : m_settings(settings), m_script(std::move(script)) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -78,78 +70,6 @@ void DeviceEmulator::step(const Vec6& renderedWrench) {
   m_state.worldFromTarget = target;
   ++m_state.tick;
   m_state.time = static_cast<double>(m_state.tick) * dt;
-}
-
-LoopTimingStats DeviceEmulator::runVirtual(std::int64_t ticks, const TickHandler& handler) {
-  if (running()) throw Error("device: runVirtual while the real-time loop runs");
-  LoopTimingStats stats;
-  stats.virtualTime = true;
-  m_stopRequested.store(false);
-  std::int64_t n = 0;
-  for (; n < ticks && !m_stopRequested.load(std::memory_order_relaxed); ++n) {
-    const Vec6 w = handler ? handler(m_state) : Vec6::Zero();
-    step(w);
-  }
-  stats.ticks = n;
-  stats.elapsedSeconds = static_cast<double>(n) * timestep();
-  stats.achievedRateHz = m_settings.rateHz;
-  m_stats = stats;
-  return stats;
-}
-
-void DeviceEmulator::start(TickHandler handler, std::int64_t maxTicks) {
-  if (m_thread.joinable()) throw Error("device: the loop is already running");
-  m_handler = std::move(handler);
-  m_stopRequested.store(false);
-  m_running.store(true, std::memory_order_release);
-  m_thread = std::thread([this, maxTicks] { loop(maxTicks); });
-}
-
-void DeviceEmulator::stop() {
-  m_stopRequested.store(true);
-  if (m_thread.joinable()) m_thread.join();
-}
-
-void DeviceEmulator::wait() {
-  if (m_thread.joinable()) m_thread.join();
-}
-
-void DeviceEmulator::loop(std::int64_t maxTicks) {
-  using Clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timestep()));
-  std::vector<double> lateness;
-  std::vector<double> busy;
-  lateness.reserve(static_cast<std::size_t>(std::min<std::int64_t>(maxTicks, 10'000'000)));
-  busy.reserve(lateness.capacity());
-  LoopTimingStats stats;
-  const auto begin = Clock::now();
-  auto deadline = begin;
-  std::int64_t n = 0;
-  for (; n < maxTicks && !m_stopRequested.load(std::memory_order_relaxed); ++n) {
-    std::this_thread::sleep_until(deadline);
-    const auto woke = Clock::now();
-    lateness.push_back(std::chrono::duration<double, std::micro>(woke - deadline).count());
-    const Vec6 w = m_handler ? m_handler(m_state) : Vec6::Zero();
-    step(w);
-    const auto done = Clock::now();
-    busy.push_back(std::chrono::duration<double, std::micro>(done - woke).count());
-    deadline += period;
-    if (done > deadline) {
-      ++stats.overruns;
-      // Skip the deadlines already missed rather than running a burst of late ticks.
-      while (deadline + period < done) deadline += period;
-    }
-  }
-  const auto end = Clock::now();
-  stats.ticks = n;
-  stats.elapsedSeconds = std::chrono::duration<double>(end - begin).count();
-  stats.achievedRateHz = stats.elapsedSeconds > 0.0 ? static_cast<double>(n) / stats.elapsedSeconds : 0.0;
-  stats.jitterP50Us = percentile(lateness, 50.0);
-  stats.jitterP99Us = percentile(lateness, 99.0);
-  stats.jitterMaxUs = lateness.empty() ? 0.0 : *std::max_element(lateness.begin(), lateness.end());
-  stats.handlerP99Us = percentile(busy, 99.0);
-  m_stats = stats;
-  m_running.store(false, std::memory_order_release);
 }
 
 }  // namespace sdfccd::haptics

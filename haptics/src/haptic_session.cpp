@@ -15,6 +15,7 @@
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
+#include "sdfccd/haptics/two_loop_runner.h"
 #include "sdfccd/model/runaway_guard.h"
 #include "sdfccd/output_file.h"
 #include "sdfccd/thread_cpu_time.h"
@@ -194,18 +195,22 @@ class SessionGuard {
 };
 
 template <class Field>
-HapticSessionResult runWithField(const HapticScene& scene, const Field& field, const HapticSessionSettings& settings) {
+HapticSessionResult runWithField(const HapticScene& scene, const Field& field, const HapticSessionSettings& settings,
+                                 HapticDevice* externalDevice) {
   const double seconds = settings.seconds > 0.0 ? settings.seconds : scene.seconds;
   if (!(seconds > 0.0) || !std::isfinite(seconds) || seconds > 3600.0)
     throw Error("session: seconds must be in (0, 3600]");
   if (settings.simCyclesPerTick < 1 || settings.simCyclesPerTick > 1000)
     throw Error("session: simCyclesPerTick must be in [1, 1000]");
+  if (settings.realTimePriority && !settings.realTime) throw Error("session: realTimePriority needs realTime");
   const std::int64_t ticks = static_cast<std::int64_t>(std::llround(seconds * scene.device.rateHz));
   const PointTree& tree = *scene.tree;
   const bool constraint =
       settings.method == HapticMethod::Constraint || settings.method == HapticMethod::DiscreteConstraint;
 
-  DeviceEmulator device(scene.device, scene.script, scene.worldFromBodyStart);
+  std::optional<DeviceEmulator> emulator;  // the scene's emulated device, unless the caller brought one
+  HapticDevice& device =
+      externalDevice ? *externalDevice : emulator.emplace(scene.device, scene.script, scene.worldFromBodyStart);
   HapticSessionResult result;
   if (settings.recordTicks) result.ticks.reserve(static_cast<std::size_t>(ticks));
   SimulationLog log;
@@ -231,10 +236,19 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
   // The end of every haptic tick: records it and returns the wrench to render, zero once the guard has stopped
   // the session (and the loop is asked to stop after this tick).
   SessionGuard guard(scene);
+  // Without passivity the observer still keeps the port's energy account (summary), acting on nothing.
+  PassivitySettings passivitySettings = settings.passivityEnabled ? settings.passivity : PassivitySettings{};
+  passivitySettings.controller = settings.passivityEnabled && passivitySettings.controller;
+  passivitySettings.maxForce = std::min(passivitySettings.maxForce, scene.device.maxForce);
+  passivitySettings.maxTorque = std::min(passivitySettings.maxTorque, scene.device.maxTorque);
+  PassivityController passivity(passivitySettings);
+  TwoLoopRunner* runnerForStop = nullptr;  // set once the runner exists (the handler runs only inside it)
   const auto guarded = [&](const DeviceState& state, SimulationOutput sim, bool stop) {
     if (stop) {
       sim.wrenchOnDevice = Vec6::Zero();
-      device.requestStop();
+      runnerForStop->requestStop();
+    } else {
+      sim.wrenchOnDevice = passivity.filter(state, sim.wrenchOnDevice);
     }
     record(state, sim);
     return sim.wrenchOnDevice;
@@ -264,7 +278,15 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     return out;
   };
 
-  LoopTimingStats timing;
+  // The two loops: the constraint methods simulate in their own loop; the penalty step runs inside the haptic tick.
+  TwoLoopSettings loopSettings;
+  loopSettings.ticks = ticks;
+  loopSettings.realTime = settings.realTime;
+  loopSettings.simCyclesPerTick = constraint ? settings.simCyclesPerTick : 1;
+  loopSettings.loop.realTimePriority = settings.realTimePriority;
+  TwoLoopRunner runner(device, loopSettings);
+  runnerForStop = &runner;
+  TwoLoopResult loops;
   if (constraint) {
     GodObjectSettings godSettings = scene.god;
     godSettings.continuous = settings.method == HapticMethod::Constraint;
@@ -284,45 +306,19 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     SimulationOutput initial;
     initial.worldFromSimulation = scene.worldFromBodyStart;
     simulationOutput.publish(initial);
-    if (settings.realTime) {
-      std::atomic<bool> stop{false};
-      devicePose.publish(scene.worldFromBodyStart);
-      std::thread simulation([&] {
-        Rigid pose = Rigid::Identity();
-        std::uint64_t lastSequence = 0;
-        bool idle = false;
-        while (!stop.load(std::memory_order_acquire)) {
-          const std::uint64_t sequence = devicePose.read(pose);
-          if (idle && sequence == lastSequence) {
-            // Settled and the device has not moved: give the core back (it is shared with the haptic loop).
-            std::this_thread::yield();
-            continue;
-          }
-          lastSequence = sequence;
-          const SimulationOutput out = cycle(pose);
-          idle = out.idle;
-          simulationOutput.publish(out);
-        }
-      });
-      device.start(
-          [&](const DeviceState& state) {
-            devicePose.publish(state.body.worldFromBody);
-            SimulationOutput sim;
-            simulationOutput.read(sim);
-            return guarded(state, sim, guard.observePose(state.time, sim.worldFromSimulation));
-          },
-          ticks);
-      device.wait();
-      stop.store(true, std::memory_order_release);
-      simulation.join();
-      timing = device.stats();
-    } else {
-      timing = device.runVirtual(ticks, [&](const DeviceState& state) {
-        SimulationOutput sim;
-        for (int n = 0; n < settings.simCyclesPerTick; ++n) sim = cycle(state.body.worldFromBody);
-        return guarded(state, sim, guard.observePose(state.time, sim.worldFromSimulation));
-      });
-    }
+    const SimulationCycle simulate = [&](const DeviceState& state) {
+      if (settings.faultInjection.simulationCycle >= 0 &&
+          static_cast<std::int64_t>(log.cycleMs.size()) >= settings.faultInjection.simulationCycle)
+        throw Error("injected fault at simulation cycle " + std::to_string(log.cycleMs.size()));
+      const SimulationOutput out = cycle(state.body.worldFromBody);
+      simulationOutput.publish(out);
+      return !out.idle;
+    };
+    loops = runner.run(simulate, [&](const DeviceState& state) {
+      SimulationOutput sim;
+      simulationOutput.read(sim);
+      return guarded(state, sim, guard.observePose(state.time, sim.worldFromSimulation));
+    });
     result.summary.finalPosition = god.pose().translation();
   } else {
     PenaltyRendererSettings penaltySettings = scene.penalty;
@@ -332,20 +328,16 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     penaltySettings.threads = settings.ccdThreads;
     PenaltyRenderer<Field> renderer(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, penaltySettings);
     // The penalty step runs in the haptic loop itself (one step per tick).
-    const TickHandler handler = [&](const DeviceState& state) {
+    loops = runner.run(nullptr, [&](const DeviceState& state) {
+      if (settings.faultInjection.hapticTick >= 0 && state.tick >= settings.faultInjection.hapticTick)
+        throw Error("injected fault at haptic tick " + std::to_string(state.tick));
       const PenaltyStepResult r = timedStep([&] { return renderer.step(state.body); });
       const SimulationOutput sim = stepOutput(r.wrenchOnDevice, renderer.state().worldFromBody, r.contactCount);
       return guarded(state, sim, guard.observeState(state.time, renderer.state()));
-    };
-    if (settings.realTime) {
-      device.start(handler, ticks);
-      device.wait();
-      timing = device.stats();
-    } else {
-      timing = device.runVirtual(ticks, handler);
-    }
+    });
     result.summary.finalPosition = renderer.state().worldFromBody.translation();
   }
+  const LoopTimingStats& timing = loops.timing;
 
   HapticSessionSummary& s = result.summary;
   s.scene = scene.name;
@@ -376,16 +368,37 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
   s.shellPoints = tree.pointCount();
   s.runaway = guard.violation();
   s.guardStopped = guard.stopped();
+  s.error = loops.error;
+  s.realTimePriority = timing.realTimePriority;
+  s.passivityEnabled = settings.passivityEnabled;
+  s.passivity = passivity.stats();
+  s.colgateMaxStiffness =
+      colgateMaxStiffness(scene.device.linearFriction + scene.device.userDamping, 1.0 / scene.device.rateHz);
   return result;
 }
 
 }  // namespace
 
-HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings) {
+namespace {
+
+HapticSessionResult runOn(const HapticScene& scene, const HapticSessionSettings& settings, HapticDevice* device) {
   if (!scene.tree) throw Error("session: the scene has no shell");
-  if (scene.plane) return runWithField(scene, *scene.plane, settings);
+  if (scene.plane) return runWithField(scene, *scene.plane, settings, device);
   if (!scene.grid) throw Error("session: the scene has no static object");
-  return runWithField(scene, *scene.grid, settings);
+  return runWithField(scene, *scene.grid, settings, device);
+}
+
+}  // namespace
+
+HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings) {
+  return runOn(scene, settings, nullptr);
+}
+
+HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings,
+                                     HapticDevice& device) {
+  if (std::abs(device.rateHz() - scene.device.rateHz) > 1e-9 * scene.device.rateHz)
+    throw Error("session: the device's rate differs from the scene's device rate");
+  return runOn(scene, settings, &device);
 }
 
 void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks) {
@@ -470,6 +483,16 @@ std::string summaryJson(const HapticSessionSummary& s) {
     << "  \"blocked_cycles\": " << s.blockedCycles << ",\n"
     << "  \"shell_points\": " << s.shellPoints << ",\n"
     << "  \"guard_stopped\": " << s.guardStopped << ",\n"
+    << "  \"error\": " << (s.error.empty() ? std::string("null") : jsonString(s.error)) << ",\n"
+    << "  \"real_time_priority\": " << jsonString(s.realTimePriority) << ",\n"
+    << "  \"passivity\": " << s.passivityEnabled << ",\n"
+    << "  \"port_energy_j\": " << num(s.passivity.energy) << ",\n"
+    << "  \"port_energy_min_j\": " << num(s.passivity.minEnergy) << ",\n"
+    << "  \"port_deficit_bound_j\": " << num(s.passivity.deficitBound) << ",\n"
+    << "  \"passivity_controlled_ticks\": " << s.passivity.controlledTicks << ",\n"
+    << "  \"rate_limited_ticks\": " << s.passivity.rateLimitedTicks << ",\n"
+    << "  \"max_force_step_n\": " << num(s.passivity.maxForceStep) << ",\n"
+    << "  \"colgate_max_stiffness\": " << num(s.colgateMaxStiffness) << ",\n"
     << "  \"runaway\": " << (s.runaway.empty() ? std::string("null") : jsonString(s.runaway)) << ",\n"
     << "  \"final_position\": [" << num(s.finalPosition.x()) << ", " << num(s.finalPosition.y()) << ", "
     << num(s.finalPosition.z()) << "]\n"

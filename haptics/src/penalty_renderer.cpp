@@ -77,27 +77,79 @@ PenaltyStepResult PenaltyRenderer<Field>::step(const RigidBodyState& device) {
   out.contactCount = penalty.contactCount;
   out.maxPenetration = penalty.maxPenetration;
 
-  // Contact stiffness at the new pose, for the next tick.
-  m_contactGradient.setZero();
-  const Rigid& sdfFromEnd = m_contacts.sdfFromShellEnd;
-  const Mat3 worldFromSdfRotation = m_worldFromSdf.linear();
-  const double k = m_settings.contact.stiffness;
-  for (const PointContact& c : m_contacts.ccd.contacts) {
-    if (!(c.depthAtEnd < 0.0)) continue;
-    const Vec3 pointInShell = m_tree.shell().positions[static_cast<std::size_t>(c.point)];
-    const Vec3 gradient = worldFromSdfRotation * m_field.gradient(sdfFromEnd * pointInShell);
-    const double len = gradient.norm();
-    if (!(len > tolerance::kMinDirectionLength)) continue;
-    const Vec3 n = gradient / len;
-    const Vec3 r = m_state.worldFromBody.linear() * pointInShell;
-    Eigen::Matrix<double, 1, 6> row;  // n^T B
-    row.head<3>() = n.transpose();
-    row.tail<3>() = r.cross(n).transpose();
-    m_contactGradient.noalias() -= k * row.transpose() * row;
-  }
+  updateContactGradient();
   if (!m_state.worldFromBody.matrix().allFinite() || !m_state.twist().allFinite())
     throw Error("penalty renderer: the simulation diverged (non-finite state)");
   return out;
+}
+
+namespace {
+
+/// The cross-product matrix [v]x (so that [v]x w = v x w).
+Mat3 cross(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+}  // namespace
+
+template <class Field>
+void PenaltyRenderer<Field>::updateContactGradient() {
+  // d(contact wrench on the object) / d(object pose), at the new pose, summed over the points inside there (see the
+  // file comment). Per point: force f = c u with c = -k d >= 0 (d = phi - sigma < 0) and u the force's direction,
+  // handle r (centre of mass to the point), B = [I, -[r]x] (a pose change dx moves the point by B dx), g the world
+  // gradient of phi (dd/dp = g). Then
+  //   d f   = -k u g^T B dx + c du,      du = dtheta x u  (the shell normal turns with the object; the field's
+  //                                                        gradient direction does not, its curvature is dropped)
+  //   d tau = [r]x d f + dr x f,          dr x f = (dtheta x r) x f = [f]x [r]x dtheta   (the geometric term)
+  // so K = -k B^T u g^T B + [[0, -[f]x], [0, -[r]x [f]x + [f]x [r]x]] (shell normal; without the c du terms for the
+  // gradient direction). Not symmetric; the step solves it with LU. consistentGradient = false keeps the old
+  // symmetric -k B^T n n^T B with n the unit gradient (the force's direction and the torque's lever dropped).
+  m_contactGradient.setZero();
+  const Rigid& sdfFromEnd = m_contacts.sdfFromShellEnd;
+  const Mat3 worldFromSdfRotation = m_worldFromSdf.linear();
+  const Mat3 worldFromBody = m_state.worldFromBody.linear();
+  const double k = m_settings.contact.stiffness;
+  const double sigma = m_settings.contact.sigma;
+  const bool shellNormal = m_settings.contact.direction == PenaltyDirection::ShellNormal;
+  const PointShell& shell = m_tree.shell();
+  // Continuous model: every point the CCD found in contact during the step, not only those inside at its end. A
+  // point that left contact during the step still pushes during the next one (its force is the step's average,
+  // eq. 5); without its stiffness in the implicit solve that push is explicit, and once k h^2 / m exceeds ~1 it
+  // throws the object out of the contact (the peg's ejection at 1.2e6 N/m, issue 16). Its depth gradient is taken
+  // at the end pose (phi is defined everywhere); its force-order terms below only when it is still inside.
+  const bool everyContact = m_settings.contact.model == PenaltyModel::Continuous && m_settings.consistentGradient;
+  for (const PointContact& c : m_contacts.ccd.contacts) {
+    if (!(c.depthAtEnd < 0.0) && !(everyContact && !c.intervals.empty())) continue;
+    const std::size_t i = static_cast<std::size_t>(c.point);
+    const Vec3 pointInSdf = sdfFromEnd * shell.positions[i];
+    const Vec3 gradient = worldFromSdfRotation * m_field.gradient(pointInSdf);
+    const double len = gradient.norm();
+    if (!(len > tolerance::kMinDirectionLength)) continue;
+    const Vec3 r = worldFromBody * shell.positions[i];
+    Eigen::Matrix<double, 1, 6> gRow;  // g^T B
+    gRow.head<3>() = gradient.transpose();
+    gRow.tail<3>() = r.cross(gradient).transpose();
+    if (!m_settings.consistentGradient) {
+      gRow /= len;
+      m_contactGradient.noalias() -= k * gRow.transpose() * gRow;
+      continue;
+    }
+    const Vec3 u = shellNormal ? Vec3(-(worldFromBody * shell.normals[i])) : Vec3(gradient / len);
+    Eigen::Matrix<double, 6, 1> uColumn;  // B^T u
+    uColumn.head<3>() = u;
+    uColumn.tail<3>() = r.cross(u);
+    m_contactGradient.noalias() -= k * uColumn * gRow;
+    const double depth = m_field.distance(pointInSdf) - sigma;
+    if (!(depth < 0.0)) continue;
+    const Vec3 f = (-k * depth) * u;
+    m_contactGradient.bottomRightCorner<3, 3>() += cross(f) * cross(r);  // the geometric term of the torque
+    if (shellNormal) {
+      m_contactGradient.topRightCorner<3, 3>() -= cross(f);
+      m_contactGradient.bottomRightCorner<3, 3>() -= cross(r) * cross(f);
+    }
+  }
 }
 
 #define SDFCCD_INSTANTIATE_PENALTY_RENDERER(Field) template class PenaltyRenderer<Field>;

@@ -9,12 +9,9 @@
 ///   2. the device integrates one symplectic Euler step of dt = 1 / rate under user + rendered wrench.
 /// This is the paper's admittance mode: the device's pose follows from forces.
 ///
-/// Two ways to run the same ticks:
-/// - start(): real time on its own std::thread; each tick waits with sleep_until on the steady clock for its
-///   deadline (deadline n = start + n / rate, no drift). It records the wake-up lateness (jitter) and counts
-///   overruns (a tick that ends after the next deadline; the schedule then skips the missed deadlines
-///   instead of bursting to catch up).
-/// - runVirtual(): the same ticks back to back on the calling thread, no sleeping: deterministic, for tests.
+/// It is a HapticDevice (haptic_device.h): write() is step(). Its own start() / runVirtual() run it with a DeviceLoop
+/// (real time on its own thread with deadlines, or back to back in virtual time); any other runner (TwoLoopRunner,
+/// runHapticSession with a device) drives it the same way.
 ///
 /// Thread safety: while the loop runs (between start() and stop()), only the loop thread touches the device
 /// state; other threads exchange data with the tick handler through LatestValue (latest_value.h).
@@ -27,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "sdfccd/haptics/haptic_device.h"
 #include "sdfccd/haptics/rigid_body_state.h"
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/haptics/user_script.h"
@@ -48,33 +46,7 @@ struct DeviceSettings {
   double userAngularDamping = 0.05;             ///< N m s/rad
 };
 
-/// What the device is doing at one tick.
-struct DeviceState {
-  std::int64_t tick = 0;                      ///< ticks done
-  double time = 0.0;                          ///< s, tick / rate
-  RigidBodyState body;                        ///< the manipulandum (x_h)
-  Rigid worldFromTarget = Rigid::Identity();  ///< the user's target at this time
-  Vec6 userWrench = Vec6::Zero();             ///< N, N m: what the hand applied last step
-  Vec6 renderedWrench = Vec6::Zero();         ///< N, N m: what the device rendered last step (after clamping)
-};
-
-/// Timing of a run of the loop.
-struct LoopTimingStats {
-  std::int64_t ticks = 0;
-  double elapsedSeconds = 0.0;  ///< s, wall clock (virtual time: ticks / rate)
-  double achievedRateHz = 0.0;  ///< ticks / elapsed
-  double jitterP50Us = 0.0;     ///< us, median wake-up lateness
-  double jitterP99Us = 0.0;     ///< us
-  double jitterMaxUs = 0.0;     ///< us
-  double handlerP99Us = 0.0;    ///< us, 99th percentile of the tick handler + step time
-  std::int64_t overruns = 0;    ///< ticks that ended after the next deadline
-  bool virtualTime = false;
-};
-
-/// The haptic loop body: gets the device state before the step, returns the wrench to render during it.
-using TickHandler = std::function<Vec6(const DeviceState& state)>;
-
-class DeviceEmulator {
+class DeviceEmulator : public HapticDevice {
  public:
   /// Throws sdfccd::Error on non-positive or non-finite settings.
   DeviceEmulator(const DeviceSettings& settings, UserScript script, const Rigid& worldFromDeviceStart);
@@ -85,42 +57,31 @@ class DeviceEmulator {
   /// One tick without a handler: applies `renderedWrench` (clamped) and the user's pull for dt.
   void step(const Vec6& renderedWrench);
 
-  /// Runs `ticks` ticks on this thread without sleeping (deterministic virtual time), fewer if the handler calls
-  /// requestStop().
-  LoopTimingStats runVirtual(std::int64_t ticks, const TickHandler& handler);
+  // HapticDevice: write() is step().
+  double rateHz() const override { return m_settings.rateHz; }
+  const DeviceState& state() const override { return m_state; }
+  void write(const Vec6& wrench) override { step(wrench); }
 
-  /// Starts the real-time loop on its own thread; it stops by itself after `maxTicks` ticks (or at stop()).
-  /// Throws sdfccd::Error if already running.
-  void start(TickHandler handler, std::int64_t maxTicks);
-  /// Asks the loop to stop and joins it. Safe to call twice.
-  void stop();
-  /// Asks the loop to stop after the current tick without joining: callable from the tick handler itself (the
-  /// runaway guard ends a session this way), in real time and in runVirtual alike.
-  void requestStop() { m_stopRequested.store(true, std::memory_order_relaxed); }
-  /// True while the loop thread has ticks left to run.
-  bool running() const { return m_running.load(std::memory_order_acquire); }
-  /// Blocks until the loop has run its ticks (or was stopped), then joins it.
-  void wait();
-
-  const DeviceState& state() const { return m_state; }
-  const LoopTimingStats& stats() const { return m_stats; }
+  /// The loop of this device (haptic_device.h), kept for the callers that run the emulator on its own.
+  LoopTimingStats runVirtual(std::int64_t ticks, const TickHandler& handler) {
+    return m_loop.runVirtual(ticks, handler);
+  }
+  void start(TickHandler handler, std::int64_t maxTicks, const DeviceLoopOptions& options = {}) {
+    m_loop.start(std::move(handler), maxTicks, options);
+  }
+  void stop() { m_loop.stop(); }
+  void requestStop() { m_loop.requestStop(); }
+  bool running() const { return m_loop.running(); }
+  void wait() { m_loop.wait(); }
+  const LoopTimingStats& stats() const { return m_loop.stats(); }
   const DeviceSettings& settings() const { return m_settings; }
   double timestep() const { return 1.0 / m_settings.rateHz; }  ///< s
 
  private:
-  void loop(std::int64_t maxTicks);
-
   DeviceSettings m_settings;
   UserScript m_script;
   DeviceState m_state;
-  LoopTimingStats m_stats;
-  TickHandler m_handler;
-  std::thread m_thread;
-  std::atomic<bool> m_running{false};
-  std::atomic<bool> m_stopRequested{false};
+  DeviceLoop m_loop{*this};
 };
-
-/// Percentile (0..100) of a sample set by nearest rank (copies; empty set: 0).
-double percentile(std::vector<double> samples, double percent);
 
 }  // namespace sdfccd::haptics

@@ -14,6 +14,11 @@
 /// (realTime = false, for tests): the same ticks back to back, and the constraint method runs
 /// `simCyclesPerTick` simulation cycles in lockstep inside each tick, so a run is deterministic.
 ///
+/// The loops run on TwoLoopRunner (two_loop_runner.h) with the scene's emulated device or the caller's HapticDevice;
+/// every wrench goes through the device port's PassivityController (passivity.h: energy observer, force-rate limit,
+/// energy-bounding controller; the observer alone when passivityEnabled is false). An exception in a loop ends the
+/// session with summary.error set and the device rendering zero, instead of terminating the process.
+///
 /// Penetration is measured after each simulation step over every shell point (a point query of the tree at
 /// phi <= 0), outside the timed part of the cycle.
 #pragma once
@@ -23,6 +28,7 @@
 #include <vector>
 
 #include "sdfccd/haptics/haptic_scene.h"
+#include "sdfccd/haptics/passivity.h"
 
 namespace sdfccd::haptics {
 
@@ -40,6 +46,26 @@ struct HapticSessionSettings {
   int simCyclesPerTick = 1;  ///< virtual time, constraint methods: simulation cycles per haptic tick
   bool recordTicks = true;   ///< keep one HapticTickRecord per tick
   int ccdThreads = 1;        ///< CCD worker threads of the simulation
+  /// Real time only, opt-in: ask for SCHED_FIFO for the haptic loop (the summary says whether it was granted).
+  bool realTimePriority = false;
+  /// The passivity observer/controller and force-rate limit on the device port (passivity.h); the device's own
+  /// force and torque limits are added to `passivity`.
+  bool passivityEnabled = true;
+  PassivitySettings passivity = defaultSessionPassivity();
+  /// Tests: throw from the simulation cycle with this index, or from the haptic tick with this number (-1: never).
+  /// The session then ends with `error` set and the device rendering zero.
+  struct FaultInjection {
+    std::int64_t simulationCycle = -1;  ///< constraint methods
+    std::int64_t hapticTick = -1;       ///< penalty methods (the step runs in the haptic tick)
+  } faultInjection;
+
+  /// The session's default: observer on, force change at most 1 N and torque change at most 0.05 N m per tick.
+  static PassivitySettings defaultSessionPassivity() {
+    PassivitySettings p;
+    p.maxForceStep = 1.0;
+    p.maxTorqueStep = 0.05;
+    return p;
+  }
 };
 
 /// One row of the per-tick log (written by the haptic loop).
@@ -88,6 +114,13 @@ struct HapticSessionSummary {
   /// ended; hapticTicks counts the ticks run).
   std::string runaway;
   bool guardStopped = false;
+  /// An exception in the haptic or the simulation loop ended the session (one line naming the loop; "" if none): the
+  /// device rendered zero from that tick on and the loops were joined.
+  std::string error;
+  std::string realTimePriority = "off";  ///< "off", "granted (SCHED_FIFO 80)" or "denied (...): reason"
+  bool passivityEnabled = false;
+  PassivityStats passivity;          ///< the device port's energy account (passivity.h)
+  double colgateMaxStiffness = 0.0;  ///< N/m, 2 b / T of the emulated device (b: friction + hand damping)
 };
 
 struct HapticSessionResult {
@@ -95,8 +128,13 @@ struct HapticSessionResult {
   std::vector<HapticTickRecord> ticks;
 };
 
-/// Runs the session. Throws sdfccd::Error on bad settings.
+/// Runs the session on the scene's emulated device. Throws sdfccd::Error on bad settings; an exception inside a
+/// loop does not throw: it ends the session with summary.error set (the device rendering zero).
 HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings);
+/// The same on the caller's device (a lab's device, a TrajectoryPlayer, an emulator of its own), at the scene's
+/// device rate (else sdfccd::Error). The session ends after its seconds or when the device runs out.
+HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings,
+                                     HapticDevice& device);
 
 /// Writes the per-tick CSV (atomically).
 void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks);

@@ -13,10 +13,12 @@
 ///      octree Leaves: the paper's choice at haptic rates) and the penalty model on it give the contact wrench
 ///      of this step (continuous: eqs. 3-5 over the contact sub-intervals; discrete: depth at the end pose
 ///      only, the CCD in FirstHit mode there);
-///   4. the contact gradient for the next tick: each point penetrating at the new pose contributes
-///      -k B^T n n^T B (n the unit field gradient, B = [I, -[r]x] maps the body's twist to the point's motion),
-///      the symmetric part of d(force)/d(pose) (the geometric term of the torque is dropped: it is not
-///      symmetric and small at haptic penetrations);
+///   4. the contact gradient for the next tick, d(contact wrench)/d(pose) at the new pose: each point penetrating
+///      there contributes -k B^T u g^T B (u the direction its force takes, the same as the penalty model's: the
+///      shell's normal by default; g the field's gradient, the derivative of its depth; B = [I, -[r]x] maps a pose
+///      change to the point's motion), plus the terms of order of its force: the shell normal turning with the
+///      object, and the geometric term of the torque (the lever r turning). Not symmetric: LU solve;
+///      consistentGradient = false keeps the older symmetric -k B^T n n^T B (n the unit gradient);
 ///   5. the device feels the reaction of the coupling.
 /// The device itself is integrated by the DeviceEmulator (explicit, at the same rate): the coupling force it
 /// receives is bounded by F_max, so that step stays stable.
@@ -52,6 +54,9 @@ struct PenaltyRendererSettings {
   CcdMethod ccdMethod = CcdMethod::Exact;
   int threads = 1;       ///< CCD worker threads
   bool implicit = true;  ///< false: symplectic Euler (for comparison)
+  /// The contact gradient with the force's own direction and the torque's geometric term (see step 4); false: the
+  /// symmetric field-normal approximation the renderer used before (for comparison, Fig. 10b).
+  bool consistentGradient = true;
 };
 
 /// What one tick did.
@@ -78,8 +83,12 @@ class PenaltyRenderer {
   const RigidBodyState& state() const { return m_state; }
   const PenaltyRendererSettings& settings() const { return m_settings; }
   Rigid sdfFromBody() const { return m_sdfFromWorld * m_state.worldFromBody; }
+  /// d(contact wrench)/d(pose) at the current pose, used by the next step (N/m, N, N m blocks).
+  const Mat6& contactGradient() const { return m_contactGradient; }
 
  private:
+  void updateContactGradient();
+
   const PointTree& m_tree;
   const Field& m_field;
   Rigid m_worldFromSdf;
