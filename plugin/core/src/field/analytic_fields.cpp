@@ -6,23 +6,11 @@
 #include <array>
 #include <cmath>
 
+#include "field/segment_query_util.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd {
 namespace {
-
-void reset(SegmentCcdResult& r) {
-  r.state = SegmentState::Separated;
-  r.fraction = 1.0;
-  r.intervals.clear();
-  r.normal = Vec3::Zero();
-  r.point = Vec3::Zero();
-  r.depth = 0.0;
-}
-
-bool finiteInput(const Vec3& p0, const Vec3& p1, double sigma) {
-  return p0.allFinite() && p1.allFinite() && std::isfinite(sigma);
-}
 
 double clamp01(double t) {
   return std::min(1.0, std::max(0.0, t));
@@ -100,11 +88,6 @@ void finishConvexQuery(const Field& field, const Vec3& p0, const Vec3& p1, doubl
   if (all) outResult.intervals.append(enter, leave);
 }
 
-// SegmentCcdSettings::maxFraction: a first hit after it is no contact (the closed forms cost the same either way).
-void limitToMaxFraction(const SegmentCcdSettings& settings, SegmentCcdResult& r) {
-  if (settings.mode == CcdMode::FirstHit && r.hit() && r.fraction > settings.maxFraction) reset(r);
-}
-
 }  // namespace
 
 PlaneField::PlaneField(const Vec3& normal, double offset) : m_normal(normal), m_offset(offset) {
@@ -118,16 +101,12 @@ PlaneField::PlaneField(const Vec3& normal, double offset) : m_normal(normal), m_
 void PlaneField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                   SegmentCcdResult& outResult) const {
   intersectWholeSegment(p0InSdf, p1InSdf, settings, outResult);
-  limitToMaxFraction(settings, outResult);
+  detail::limitToMaxFraction(settings, outResult);
 }
 
 void PlaneField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                        SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
+  if (!detail::startSegmentQuery(p0InSdf, p1InSdf, settings, outResult)) return;
   // phi - sigma is linear along the segment: f(t) = f0 + t (f1 - f0).
   const double f0 = distance(p0InSdf) - settings.sigma;
   const double f1 = distance(p1InSdf) - settings.sigma;
@@ -165,16 +144,12 @@ Vec3 SphereField::gradient(const Vec3& pointInSdf) const {
 void SphereField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                    SegmentCcdResult& outResult) const {
   intersectWholeSegment(p0InSdf, p1InSdf, settings, outResult);
-  limitToMaxFraction(settings, outResult);
+  detail::limitToMaxFraction(settings, outResult);
 }
 
 void SphereField::intersectWholeSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                         SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
+  if (!detail::startSegmentQuery(p0InSdf, p1InSdf, settings, outResult)) return;
   const bool all = settings.mode == CcdMode::AllIntervals;
   const double f0 = distance(p0InSdf) - settings.sigma;
   const double f1 = distance(p1InSdf) - settings.sigma;
@@ -246,11 +221,7 @@ Vec3 BoxField::gradient(const Vec3& pointInSdf) const {
 
 void BoxField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                 SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
+  if (!detail::startSegmentQuery(p0InSdf, p1InSdf, settings, outResult)) return;
   const double sigma = settings.sigma;
   const Vec3 d = p1InSdf - p0InSdf;
   // Cuts where a coordinate crosses -h, 0 or +h: between them each q_i = |p_i| - h_i is linear in t and keeps
@@ -304,7 +275,7 @@ void BoxField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const 
   const bool found = spanOfPieces(cuts, cutCount, solvePiece, span);
   finishConvexQuery(*this, p0InSdf, p1InSdf, distance(p0InSdf) - sigma, distance(p1InSdf) - sigma, found, span,
                     settings.mode == CcdMode::AllIntervals, outResult);
-  limitToMaxFraction(settings, outResult);
+  detail::limitToMaxFraction(settings, outResult);
 }
 
 CapsuleField::CapsuleField(double radius, double halfHeight, int axis)
@@ -323,11 +294,7 @@ Vec3 CapsuleField::gradient(const Vec3& pointInSdf) const {
 
 void CapsuleField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                     SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
+  if (!detail::startSegmentQuery(p0InSdf, p1InSdf, settings, outResult)) return;
   const double big = m_radius + settings.sigma;  // phi <= sigma <=> distance to the axis segment <= big
   const Vec3 d = p1InSdf - p0InSdf;
   const double da = d[m_axis];
@@ -360,7 +327,7 @@ void CapsuleField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, co
   const bool found = spanOfPieces(cuts, cutCount, solvePiece, span);
   finishConvexQuery(*this, p0InSdf, p1InSdf, distance(p0InSdf) - settings.sigma, distance(p1InSdf) - settings.sigma,
                     found, span, settings.mode == CcdMode::AllIntervals, outResult);
-  limitToMaxFraction(settings, outResult);
+  detail::limitToMaxFraction(settings, outResult);
 }
 
 }  // namespace sdfccd

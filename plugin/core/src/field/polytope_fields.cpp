@@ -8,95 +8,12 @@
 #include <limits>
 #include <string>
 
+#include "field/segment_query_util.h"
 #include "mesh/triangle_distance.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd {
 namespace {
-
-constexpr double kGolden = 0.6180339887498949;  // (sqrt(5) - 1) / 2
-constexpr int kBisections = 64;                 // halvings of [0, 1]: past the last bit of a double in [0, 1]
-constexpr int kGoldenSteps = 80;                // 0.618^80 ~ 2e-17
-
-void reset(SegmentCcdResult& r) {
-  r.state = SegmentState::Separated;
-  r.fraction = 1.0;
-  r.intervals.clear();
-  r.normal = Vec3::Zero();
-  r.point = Vec3::Zero();
-  r.depth = 0.0;
-}
-
-/// The first t in [lo, hi] with f(t) <= 0, given f(lo) > 0 >= f(hi) (f convex: one crossing).
-template <class F>
-double firstInside(const F& f, double lo, double hi) {
-  for (int i = 0; i < kBisections && lo < hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (f(mid) <= 0.0 ? hi : lo) = mid;
-  }
-  return hi;
-}
-
-/// The last t in [lo, hi] with f(t) <= 0, given f(lo) <= 0 < f(hi).
-template <class F>
-double lastInside(const F& f, double lo, double hi) {
-  for (int i = 0; i < kBisections && lo < hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (f(mid) <= 0.0 ? lo : hi) = mid;
-  }
-  return lo;
-}
-
-/// The interval of [0, 1] where the convex, `lipschitz`-Lipschitz f is <= 0, with f0 = f(0), f1 = f(1).
-/// `needEnd` false: the end is not searched (FirstHit; `out.end` is then 1 or the start's side only).
-template <class F>
-bool convexSublevelInterval(const F& f, double f0, double f1, double lipschitz, bool needEnd, Interval& out) {
-  if (f0 <= 0.0) {
-    out = {0.0, f1 <= 0.0 ? 1.0 : (needEnd ? lastInside(f, 0.0, 1.0) : 0.0)};
-    return true;
-  }
-  if (f1 <= 0.0) {
-    out = {firstInside(f, 0.0, 1.0), 1.0};
-    return true;
-  }
-  // Both ends outside: is there a t with f(t) <= 0? Golden-section search for the minimum, stopped as soon as
-  // a point inside is found, or when the Lipschitz bound proves the bracket's minimum positive.
-  if (0.5 * (f0 + f1 - lipschitz) > 0.0) return false;
-  double a = 0.0, b = 1.0;
-  double x1 = b - kGolden * (b - a), x2 = a + kGolden * (b - a);
-  double g1 = f(x1), g2 = f(x2);
-  double inside = -1.0;
-  for (int i = 0; i < kGoldenSteps; ++i) {
-    if (g1 <= 0.0 || g2 <= 0.0) {
-      inside = g1 <= g2 ? x1 : x2;
-      break;
-    }
-    // Convex: the minimum is in [a, x2] when g1 < g2, else in [x1, b]; on that bracket f >= g - L (b - a).
-    if (std::min(g1, g2) - lipschitz * (b - a) > 0.0 || b - a < 1e-17) return false;
-    if (g1 < g2) {
-      b = x2;
-      x2 = x1;
-      g2 = g1;
-      x1 = b - kGolden * (b - a);
-      g1 = f(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      g1 = g2;
-      x2 = a + kGolden * (b - a);
-      g2 = f(x2);
-    }
-  }
-  if (inside < 0.0) return false;
-  out = {firstInside(f, 0.0, inside), needEnd ? lastInside(f, inside, 1.0) : 1.0};
-  return true;
-}
-
-bool finiteInput(const Vec3& p0, const Vec3& p1, double sigma) {
-  return p0.allFinite() && p1.allFinite() && std::isfinite(sigma);
-}
 
 /// How far above sigma still counts as touching: rounding. A point crossing a zero-thickness triangle with
 /// sigma = 0 touches it at one t only, where the computed distance is a few ulps above zero.
@@ -122,6 +39,29 @@ void checkTriangles(const std::vector<Vec3>& vertices, const std::vector<Triangl
 Vec3 triangleAreaVector(const std::vector<Vec3>& v, const TriangleIndices& t) {
   return 0.5 * (v[static_cast<std::size_t>(t[1])] - v[static_cast<std::size_t>(t[0])])
                    .cross(v[static_cast<std::size_t>(t[2])] - v[static_cast<std::size_t>(t[0])]);
+}
+
+/// The segment query of a convex field grown by `radius` (ConvexPolytopeField, RevolvedConvexField): phi is
+/// convex along the segment, so its contact set is one interval.
+template <class Field>
+void convexFieldSegmentQuery(const Field& field, double radius, const Vec3& p0, const Vec3& p1,
+                             const SegmentCcdSettings& settings, SegmentCcdResult& outResult) {
+  if (!detail::startSegmentQuery(p0, p1, settings, outResult)) return;
+  const Vec3 d = p1 - p0;
+  const double level = settings.sigma + touchTolerance(p0, p1, settings.sigma + radius);
+  const auto f = [&](double t) { return field.distance(p0 + t * d) - level; };
+  const double f0 = f(0.0);
+  const double f1 = f(1.0);
+  const bool all = settings.mode == CcdMode::AllIntervals;
+  Interval span;
+  if (!detail::convexSublevelInterval(f, f0, f1, d.norm(), all, span)) return;
+  outResult.state = span.begin > 0.0 ? SegmentState::Hit : SegmentState::StartsInside;
+  outResult.fraction = span.begin;
+  outResult.point = p0 + span.begin * d;
+  outResult.depth = span.begin > 0.0 ? 0.0 : field.distance(p0) - settings.sigma;
+  outResult.normal = field.gradient(outResult.point);
+  if (all) outResult.intervals.append(span.begin, span.end);
+  detail::limitToMaxFraction(settings, outResult);
 }
 
 }  // namespace
@@ -193,26 +133,7 @@ Vec3 ConvexPolytopeField::gradient(const Vec3& pointInSdf) const {
 
 void ConvexPolytopeField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                            SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
-  const Vec3 d = p1InSdf - p0InSdf;
-  const double level = settings.sigma + touchTolerance(p0InSdf, p1InSdf, settings.sigma + m_radius);
-  const auto f = [&](double t) { return distance(p0InSdf + t * d) - level; };
-  const double f0 = f(0.0);
-  const double f1 = f(1.0);
-  const bool all = settings.mode == CcdMode::AllIntervals;
-  Interval span;
-  if (!convexSublevelInterval(f, f0, f1, d.norm(), all, span)) return;
-  outResult.state = span.begin > 0.0 ? SegmentState::Hit : SegmentState::StartsInside;
-  outResult.fraction = span.begin;
-  outResult.point = p0InSdf + span.begin * d;
-  outResult.depth = span.begin > 0.0 ? 0.0 : distance(p0InSdf) - settings.sigma;
-  outResult.normal = gradient(outResult.point);
-  if (all) outResult.intervals.append(span.begin, span.end);
-  if (settings.mode == CcdMode::FirstHit && outResult.fraction > settings.maxFraction) reset(outResult);
+  convexFieldSegmentQuery(*this, m_radius, p0InSdf, p1InSdf, settings, outResult);
 }
 
 // ---- TriangleSetField ----
@@ -329,11 +250,7 @@ Vec3 TriangleSetField::gradient(const Vec3& pointInSdf) const {
 
 void TriangleSetField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                         SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
+  if (!detail::startSegmentQuery(p0InSdf, p1InSdf, settings, outResult)) return;
   const Vec3 d = p1InSdf - p0InSdf;
   const double length = d.norm();
   const double reach = settings.sigma + m_radius;  // contact: within `reach` of a triangle, or behind it
@@ -361,7 +278,7 @@ void TriangleSetField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf
     bool overFace = false;
     const auto f = [&](double t) { return std::abs(triangleDistance(k, p0InSdf + t * d, q, overFace)) - level; };
     Interval span;
-    if (convexSublevelInterval(f, f(0.0), f(1.0), length, all, span)) add(k, span);
+    if (detail::convexSublevelInterval(f, f(0.0), f(1.0), length, all, span)) add(k, span);
     if (behindInterval(k, p0InSdf, d, span)) add(k, span);
     if (!all && first == 0.0) break;  // FirstHit: nothing comes before the start
   }
@@ -375,7 +292,7 @@ void TriangleSetField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf
     std::sort(parts.begin(), parts.end(), [](const Interval& a, const Interval& b) { return a.begin < b.begin; });
     for (const Interval& part : parts) outResult.intervals.append(part.begin, part.end);
   }
-  if (settings.mode == CcdMode::FirstHit && outResult.fraction > settings.maxFraction) reset(outResult);
+  detail::limitToMaxFraction(settings, outResult);
 }
 
 // ---- RevolvedConvexField ----
@@ -448,25 +365,7 @@ Vec3 RevolvedConvexField::gradient(const Vec3& p) const {
 
 void RevolvedConvexField::intersectSegment(const Vec3& p0InSdf, const Vec3& p1InSdf, const SegmentCcdSettings& settings,
                                            SegmentCcdResult& outResult) const {
-  reset(outResult);
-  if (!finiteInput(p0InSdf, p1InSdf, settings.sigma)) {
-    outResult.state = SegmentState::Failed;
-    return;
-  }
-  // phi is convex along the segment (a convex solid, grown): one interval, as ConvexPolytopeField.
-  const Vec3 d = p1InSdf - p0InSdf;
-  const double level = settings.sigma + touchTolerance(p0InSdf, p1InSdf, settings.sigma + m_radius);
-  const auto f = [&](double t) { return distance(p0InSdf + t * d) - level; };
-  const bool all = settings.mode == CcdMode::AllIntervals;
-  Interval span;
-  if (!convexSublevelInterval(f, f(0.0), f(1.0), d.norm(), all, span)) return;
-  outResult.state = span.begin > 0.0 ? SegmentState::Hit : SegmentState::StartsInside;
-  outResult.fraction = span.begin;
-  outResult.point = p0InSdf + span.begin * d;
-  outResult.depth = span.begin > 0.0 ? 0.0 : distance(p0InSdf) - settings.sigma;
-  outResult.normal = gradient(outResult.point);
-  if (all) outResult.intervals.append(span.begin, span.end);
-  if (settings.mode == CcdMode::FirstHit && outResult.fraction > settings.maxFraction) reset(outResult);
+  convexFieldSegmentQuery(*this, m_radius, p0InSdf, p1InSdf, settings, outResult);
 }
 
 RevolvedConvexField cylinderField(double cylinderRadius, double halfHeight, int axis, double rounding) {
