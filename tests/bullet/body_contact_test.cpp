@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "bullet_test_util.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
@@ -15,12 +16,8 @@ namespace sdfccd {
 namespace body_contact_test {
 
 std::shared_ptr<const BodyModel> ballModel() {
-  static const std::shared_ptr<const BodyModel> model = [] {
-    BodyModelSettings s;
-    s.resolution = 24;
-    s.points = 300;
-    return BodyModel::buildFromMesh(makeIcosphere(0.1, 3), s);
-  }();
+  static const std::shared_ptr<const BodyModel> model =
+      BodyModel::buildFromMesh(makeIcosphere(0.1, 3), test::smallModelSettings(24, 300));
   return model;
 }
 

@@ -9,52 +9,18 @@
 #include <memory>
 #include <vector>
 
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "bullet_test_util.h"
+#include "bullet_world_fixture.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 
 namespace sdfccd {
 namespace {
 
-Vec3 toVec3(const btVector3& v) {
-  return Vec3(v.x(), v.y(), v.z());
-}
-
 /// A small dynamics world with our algorithms registered (penalty contact as in the shipped drop scenes).
-struct ConvexWorld {
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher{&configuration};
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
-  std::shared_ptr<SdfccdContactSystem> contacts;
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;
-
-  explicit ConvexWorld(const SdfccdContactSettings& settings) {
-    world.setGravity(btVector3(0, btScalar(-9.81), 0));
-    contacts = registerSdfccdAlgorithms(&world, settings);
-  }
-  ~ConvexWorld() {
-    for (auto& b : bodies) world.removeRigidBody(b.get());
-    world.removeAction(contacts.get());
-  }
-  btRigidBody& add(std::unique_ptr<btCollisionShape> shape, double mass, const Vec3& position) {
-    btVector3 inertia(0, 0, 0);
-    if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
-    btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(), inertia);
-    info.m_startWorldTransform.setIdentity();
-    info.m_startWorldTransform.setOrigin(
-        btVector3(btScalar(position.x()), btScalar(position.y()), btScalar(position.z())));
-    bodies.push_back(std::make_unique<btRigidBody>(info));
-    if (mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
-    world.addRigidBody(bodies.back().get());
-    shapes.push_back(std::move(shape));
-    return *bodies.back();
-  }
-  void run(int steps) {
-    for (int i = 0; i < steps; ++i) world.stepSimulation(btScalar(0.001), 0);
-  }
+struct ConvexWorld : test::BulletTestWorld {
+  using BulletTestWorld::BulletTestWorld;
+  void run(int steps) { step(steps, 0.001); }
 };
 
 SdfccdContactSettings dropSettings() {
@@ -70,21 +36,15 @@ SdfccdContactSettings dropSettings() {
 }
 
 std::shared_ptr<const BodyModel> boxModel(const Vec3& halfExtents, int points = 600) {
-  BodyModelSettings s;
-  s.resolution = 32;
-  s.points = points;
-  return BodyModel::buildFromMesh(makeBox(halfExtents), s);
+  return BodyModel::buildFromMesh(makeBox(halfExtents), test::smallModelSettings(32, points));
 }
 
 // The bunny (0.2 m) falls 2 cm onto a static 1.2 x 0.1 x 1.2 m btBoxShape whose top is at y = 0.15 and comes
 // to rest on it: its lowest shell point is at the top, within the penetration that carries its weight (a
 // fraction of a cell), and it stays over the box. Our shell meets the BoxField, the box's points our field.
 TEST(ConvexPairs, BunnyRestsOnStaticBulletBox) {
-  BodyModelSettings s;
-  s.resolution = 48;
-  s.points = 1500;  // fewer points on this coarse a shell leave the bunny rocking on three or four of them
-  s.scale = 0.2;
-  auto bunny = BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
+  // 1500 points: fewer on this coarse a shell leave the bunny rocking on three or four of them.
+  const auto bunny = test::buildTestBunny(1500);
   ConvexWorld w(dropSettings());
   w.add(std::make_unique<btBoxShape>(btVector3(0.6f, 0.05f, 0.6f)), 0.0, Vec3(0, 0.1, 0));
   const double top = 0.15;

@@ -15,54 +15,30 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "bullet_test_util.h"
+#include "bullet_world_fixture.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 
 namespace sdfccd {
 namespace other_shapes_test {
 
-Vec3 asVec3(const btVector3& v) {
-  return Vec3(v.x(), v.y(), v.z());
+/// Settings of the given contact mode, defaults otherwise.
+SdfccdContactSettings modeSettings(SdfccdContactMode mode) {
+  SdfccdContactSettings settings;
+  settings.mode = mode;
+  return settings;
 }
 
-/// A dynamics world with our algorithms (solver mode by default, or penalty) and owned shapes, bodies, meshes.
-struct ShapesWorld {
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher{&configuration};
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
-  std::shared_ptr<SdfccdContactSystem> contacts;
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;
+/// A dynamics world with our algorithms (solver mode by default, or penalty) and owned shapes, bodies, meshes,
+/// terrain heights; it records what the contact system logs.
+struct ShapesWorld : test::BulletTestWorld {
   std::vector<std::unique_ptr<btTriangleMesh>> meshes;
   std::vector<std::vector<float>> heights;
   std::vector<std::string> log;
 
-  explicit ShapesWorld(SdfccdContactMode mode) {
-    world.setGravity(btVector3(0, btScalar(-9.81), 0));
-    SdfccdContactSettings settings;
-    settings.mode = mode;
-    contacts = registerSdfccdAlgorithms(&world, settings);
+  explicit ShapesWorld(SdfccdContactMode mode) : BulletTestWorld(modeSettings(mode)) {
     contacts->setLogCallback([this](const std::string& line) { log.push_back(line); });
-  }
-  ~ShapesWorld() {
-    for (auto& b : bodies) world.removeRigidBody(b.get());
-    world.removeAction(contacts.get());
-  }
-  btRigidBody& add(std::unique_ptr<btCollisionShape> shape, double mass, const Vec3& position) {
-    btVector3 inertia(0, 0, 0);
-    if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
-    btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(), inertia);
-    info.m_startWorldTransform.setIdentity();
-    info.m_startWorldTransform.setOrigin(
-        btVector3(btScalar(position.x()), btScalar(position.y()), btScalar(position.z())));
-    bodies.push_back(std::make_unique<btRigidBody>(info));
-    if (mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
-    world.addRigidBody(bodies.back().get());
-    shapes.push_back(std::move(shape));
-    return *bodies.back();
   }
   /// A static btBvhTriangleMeshShape of `mesh` (its triangles as they are: one-sided or open).
   btRigidBody& addStaticMesh(const TriangleMesh& mesh) {
@@ -76,28 +52,20 @@ struct ShapesWorld {
     }
     return add(std::make_unique<btBvhTriangleMeshShape>(meshes.back().get(), true), 0.0, Vec3::Zero());
   }
-  void run(int steps, double dt = 1.0 / 240.0) {
-    for (int i = 0; i < steps; ++i) world.stepSimulation(btScalar(dt), 0);
-  }
+  void run(int steps, double dt = 1.0 / 240.0) { step(steps, dt); }
 };
 
 /// Our box (10 cm cube), its model's cell size (m) and its lowest shell point in the world.
 std::shared_ptr<const BodyModel> smallBox() {
-  static const std::shared_ptr<const BodyModel> model = [] {
-    BodyModelSettings s;
-    s.resolution = 24;
-    s.points = 600;
-    s.threads = 1;
-    return std::shared_ptr<const BodyModel>(BodyModel::buildFromMesh(makeBox(Vec3(0.05, 0.05, 0.05)), s));
-  }();
+  static const std::shared_ptr<const BodyModel> model =
+      BodyModel::buildFromMesh(makeBox(Vec3(0.05, 0.05, 0.05)), test::smallModelSettings(24, 600, 1));
   return model;
 }
 
 double lowestShellPoint(const btRigidBody& body, const BodyModel& model) {
   double lowest = 1e300;
   for (const Vec3& p : model.shell().positions) {
-    lowest = std::min(
-        lowest, double(body.getWorldTransform()(btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z()))).y()));
+    lowest = std::min(lowest, double(body.getWorldTransform()(toBtVector3(p)).y()));
   }
   return lowest;
 }
@@ -111,7 +79,7 @@ void expectBoxRestsOn(ShapesWorld& w, double top, const char* what) {
   const double cell = model->cellSize();
   const double lowest = lowestShellPoint(box, *model);
   EXPECT_NEAR(lowest, top, 0.5 * cell) << what << ": cell " << cell;  // measured: within 0.2 mm
-  EXPECT_LT(asVec3(box.getLinearVelocity()).norm(), 0.05) << what;
+  EXPECT_LT(toVec3(box.getLinearVelocity()).norm(), 0.05) << what;
   EXPECT_LT(std::hypot(box.getWorldTransform().getOrigin().x() - 0.01, box.getWorldTransform().getOrigin().z() + 0.01),
             0.03)
       << what;
@@ -124,18 +92,14 @@ class OtherShapes : public ::testing::TestWithParam<SdfccdContactMode> {};
 // The bunny (0.2 m, default solver mode) dropped 2 cm onto a static btCylinderShape (top at y = 0.05) rests on
 // its top: lowest shell point within a cell and the solver's margin, at rest, still over the cylinder.
 TEST(OtherShapesBunny, BunnyRestsOnStaticCylinder) {
-  BodyModelSettings s;
-  s.resolution = 48;
-  s.points = 1500;
-  s.scale = 0.2;
-  auto bunny = BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
+  const auto bunny = test::buildTestBunny(1500);
   ShapesWorld w(SdfccdContactMode::Solver);
   w.add(std::make_unique<btCylinderShape>(btVector3(0.3f, 0.05f, 0.3f)), 0.0, Vec3::Zero());
   const double lowest = -bunny->boundsInBody().min().y();
   btRigidBody& body = w.add(std::make_unique<SdfccdShape>(bunny), 1.0, Vec3(0.02, 0.05 + lowest + 0.02, -0.03));
   w.run(480);
   EXPECT_NEAR(lowestShellPoint(body, *bunny), 0.05, bunny->cellSize() + 0.002) << "cell " << bunny->cellSize();
-  EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05);
+  EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05);
   EXPECT_LT(std::hypot(body.getWorldTransform().getOrigin().x(), body.getWorldTransform().getOrigin().z()), 0.2);
   EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0);
 }
@@ -161,7 +125,7 @@ TEST_P(OtherShapes, BoxRestsOnCylinderLyingOnItsSide) {
     gap = std::min(gap, std::hypot(double(q.y()), double(q.z())) - 0.2);
   }
   EXPECT_NEAR(gap, 0.0, model->cellSize() + 0.002);
-  EXPECT_LT(asVec3(box.getLinearVelocity()).norm(), 0.05);
+  EXPECT_LT(toVec3(box.getLinearVelocity()).norm(), 0.05);
   EXPECT_GT(double(box.getWorldTransform().getOrigin().y()), 0.2);
   EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0);
 }
@@ -227,11 +191,7 @@ TEST_P(OtherShapes, ConvexShapesRestOnStaticBodyOfOurs) {
   falling.push_back(std::make_unique<btMultiSphereShape>(centres, radii, 2));
   for (auto& shape : falling) {
     ShapesWorld w(GetParam());
-    BodyModelSettings s;
-    s.resolution = 32;
-    s.points = 2000;
-    s.threads = 1;
-    auto plate = BodyModel::buildFromMesh(makeBox(Vec3(0.3, 0.05, 0.3)), s);
+    auto plate = BodyModel::buildFromMesh(makeBox(Vec3(0.3, 0.05, 0.3)), test::smallModelSettings(32, 2000, 1));
     w.add(std::make_unique<SdfccdShape>(plate), 0.0, Vec3::Zero());
     const double bottom = -double(shape->localGetSupportingVertex(btVector3(0, -1, 0)).y());
     const std::string name = shape->getName();
@@ -241,7 +201,7 @@ TEST_P(OtherShapes, ConvexShapesRestOnStaticBodyOfOurs) {
     const double height = double(body.getWorldTransform().getOrigin().y());
     // A quarter of the plate's (coarse, 19 mm) cell: a shape grown by its margin twice would be 2 cm high.
     EXPECT_NEAR(height, 0.05 + bottom, 0.25 * plate->cellSize() + 0.002) << name;
-    EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05) << name;
+    EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05) << name;
     EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0) << name;
   }
 }
@@ -318,7 +278,7 @@ TEST_P(OtherShapes, MeshApexMeetsOurFieldAsAPoint) {
   for (int i = 0; i < 240; ++i) {
     w.run(1);
     const btVector3 apex = box.getWorldTransform().inverse()(btVector3(0, btScalar(0.1), 0));
-    const Vec3 inField = model->bodyFromField().inverse() * asVec3(apex);
+    const Vec3 inField = model->bodyFromField().inverse() * toVec3(apex);
     deepest = std::min(deepest, model->field().distance(inField));
   }
   EXPECT_GT(deepest, -(model->cellSize() + 0.002)) << "cell " << model->cellSize();
@@ -359,7 +319,7 @@ TEST_P(OtherShapes, CompoundsOfOtherShapesAndOfOurs) {
     w.run(360);
     const double lowest = double(body.getWorldTransform().getOrigin().y()) + 0.02 - 0.05;
     EXPECT_NEAR(lowest, 0.0, model->cellSize() + 0.002);
-    EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05);
+    EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05);
   }
 }
 
@@ -448,11 +408,7 @@ TriangleMesh wavyTerrain(bool closed) {
 // of ours). Prints the cost; checks the bunny comes to rest on the terrain either way. Run with
 // --gtest_also_run_disabled_tests (slow: the level's SDF build).
 TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
-  BodyModelSettings s;
-  s.resolution = 48;
-  s.points = 1500;
-  s.scale = 0.2;
-  auto bunny = BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
+  const auto bunny = test::buildTestBunny(1500);
   for (const bool exact : {true, false}) {
     ShapesWorld w(SdfccdContactMode::Solver);
     std::shared_ptr<const BodyModel> level;
@@ -483,7 +439,7 @@ TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
         exact ? "exact triangles" : "dense level SDF", wall, 1e3 * wall / 480, w.contacts->statistics().ccdSeconds,
         level ? (std::to_string(std::int64_t(level->field().grid().nodeCounts().prod()) * 4 / 1000000) + " MB").c_str()
               : "none");
-    EXPECT_LT(asVec3(body.getLinearVelocity()).norm(), 0.05);
+    EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05);
     EXPECT_GT(lowestShellPoint(body, *bunny), -0.035);  // above the terrain's lowest
     EXPECT_GT(w.contacts->lastStepContactCount(), 0);
   }

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "bullet_test_util.h"
 #include "sdfccd/bullet/bullet_pose.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 
@@ -18,13 +19,7 @@ namespace sdfccd {
 namespace queries_test {
 
 std::shared_ptr<const BodyModel> bunnyModel() {
-  static const std::shared_ptr<const BodyModel> model = [] {
-    BodyModelSettings s;
-    s.resolution = 48;
-    s.points = 200;
-    s.scale = 0.2;
-    return BodyModel::buildFromMeshFile(std::string(SDFCCD_ASSETS_DIR) + "/meshes/bunny.off", s);
-  }();
+  static const std::shared_ptr<const BodyModel> model = test::buildTestBunny(200);
   return model;
 }
 

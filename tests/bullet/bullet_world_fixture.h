@@ -1,0 +1,56 @@
+// A small dynamics world with our collision algorithms registered, owning its shapes and bodies: the fixture of
+// the suites that drop bodies on Bullet's own shapes (convex_pairs_test.cpp, other_shapes_test.cpp).
+#pragma once
+
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "sdfccd/bullet/bullet_pose.h"
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+
+namespace sdfccd::test {
+
+struct BulletTestWorld {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::shared_ptr<SdfccdContactSystem> contacts;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+
+  explicit BulletTestWorld(const SdfccdContactSettings& settings) {
+    world.setGravity(btVector3(0, btScalar(-9.81), 0));
+    contacts = registerSdfccdAlgorithms(&world, settings);
+  }
+  ~BulletTestWorld() {
+    for (auto& b : bodies) world.removeRigidBody(b.get());
+    world.removeAction(contacts.get());
+  }
+  BulletTestWorld(const BulletTestWorld&) = delete;
+  BulletTestWorld& operator=(const BulletTestWorld&) = delete;
+
+  /// A body of `shape` at `position` (no rotation), static when `mass` is 0, never deactivated otherwise.
+  btRigidBody& add(std::unique_ptr<btCollisionShape> shape, double mass, const Vec3& position) {
+    btVector3 inertia(0, 0, 0);
+    if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
+    btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(), inertia);
+    info.m_startWorldTransform.setIdentity();
+    info.m_startWorldTransform.setOrigin(toBtVector3(position));
+    bodies.push_back(std::make_unique<btRigidBody>(info));
+    if (mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+    world.addRigidBody(bodies.back().get());
+    shapes.push_back(std::move(shape));
+    return *bodies.back();
+  }
+  /// `steps` fixed steps of `dt` seconds (no substeps).
+  void step(int steps, double dt) {
+    for (int i = 0; i < steps; ++i) world.stepSimulation(btScalar(dt), 0);
+  }
+};
+
+}  // namespace sdfccd::test
