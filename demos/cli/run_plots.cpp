@@ -31,6 +31,9 @@ const PlotSpec kPlots[] = {
     {"kinetic_energy", "kinetic_energy.png", "Kinetic energy per frame", "kinetic energy (J)", "#1f77b4"},
     {"contacts", "contacts.png", "Contacts per frame", "contact count", "#2ca02c"},
     {"ccd_seconds", "ccd_time.png", "CCD time per frame", "CCD time (ms)", "#9467bd"},
+    // Haptic runs only (haptic_run.h): magnitudes of the force and torque on the device per tick.
+    {"force", "force.png", "Force on the device per tick", "force (N)", "#ff7f0e"},
+    {"torque", "torque.png", "Torque on the device per tick", "torque (N m)", "#8c564b"},
 };
 
 }  // namespace
@@ -49,7 +52,7 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
   for (const PlotSpec& plot : kPlots) {
     if (frames.series.count(plot.series) != 0) {
       present.push_back(&plot);
-    } else {
+    } else if (std::string(plot.series) != "force" && std::string(plot.series) != "torque") {
       result.skipped.push_back(std::string(plot.series) + ": no such column in the frames CSV");
     }
   }
