@@ -29,6 +29,7 @@
 #if SDFCCD_HAS_RENDER
 #include "sdfccd/render/contact_sheet.h"
 #include "sdfccd/render/png_file.h"
+#include "sdfccd/render/render_camera.h"
 #endif
 
 namespace sdfccd::cli {
@@ -54,10 +55,20 @@ struct RenderOptions {
 
 #if SDFCCD_HAS_RENDER
 
+/// True for a haptic run folder (ticks.csv, no frames.csv) in a build with the haptics module.
+bool isHapticRun(const RenderOptions& options) {
+#if SDFCCD_HAS_HAPTICS
+  return isHapticRunFolder(options.runDir);
+#else
+  (void)options;
+  return false;
+#endif
+}
+
 /// A simulate run (frames.csv), or a haptic run (ticks.csv: the tool at its recorded poses and the obstacle).
 RunFolder readAnyRunFolder(const RenderOptions& options) {
 #if SDFCCD_HAS_HAPTICS
-  if (isHapticRunFolder(options.runDir)) {
+  if (isHapticRun(options)) {
     return readHapticRunFolder(options.runDir,
                                modelCacheFolder(options.cacheOption->count() > 0 ? &options.cache : nullptr));
   }
@@ -156,6 +167,14 @@ int runRender(const RenderOptions& options) {
   settings.every = every;
   settings.supersample = options.supersample;
   if (!settings.camera) settings.framingPoints = runFramingPoints(run.scene, frames);
+  if (isHapticRun(options)) {
+    // A haptic run: its scenes are centimetres across, below the 0.1 m that automatic framing keeps at least.
+    render::CameraFramingSettings framing;
+    framing.minimumSize = 1e-3;
+    const render::RenderCamera camera =
+        render::framePoints(settings.framingPoints, static_cast<double>(width) / height, framing);
+    settings.camera = SceneCamera{camera.eye, camera.target, camera.up, camera.fovDegrees};
+  }
   RunFrameRenderer renderer(run.scene.bodies, settings);
 
   const std::string outDir = options.outDir.empty() ? (fs::path(options.runDir) / "frames").string() : options.outDir;
