@@ -19,9 +19,9 @@
 #include "sdfccd/haptics/haptic_scene.h"
 
 namespace sdfccd::cli {
-namespace {
+// Named (not anonymous): the tool is a unity build, and these helpers must not meet other files' names.
+namespace haptic_run_detail {
 
-namespace fs = std::filesystem;
 
 /// Splits one CSV line at commas (ticks.csv has no quoted fields).
 std::vector<std::string> splitCsvLine(const std::string& line) {
@@ -108,21 +108,21 @@ TriangleMesh planeSlab(const PlaneField& plane, const Vec3& around, double side)
   return mesh;
 }
 
-}  // namespace
+}  // namespace haptic_run_detail
 
 bool isHapticRunFolder(const std::string& folder) {
   std::error_code error;
-  return fs::is_regular_file(fs::path(folder) / kHapticTicksFile, error) &&
-         !fs::exists(fs::path(folder) / kRunFramesFile, error);
+  return std::filesystem::is_regular_file(std::filesystem::path(folder) / kHapticTicksFile, error) &&
+         !std::filesystem::exists(std::filesystem::path(folder) / kRunFramesFile, error);
 }
 
 RunFrames readHapticTicks(const std::string& folder) {
-  const std::string path = (fs::path(folder) / kHapticTicksFile).string();
+  const std::string path = (std::filesystem::path(folder) / kHapticTicksFile).string();
   std::ifstream in(path);
   if (!in) throw Error("cannot read the haptic run's ticks '" + path + "'");
   std::string line;
   if (!std::getline(in, line) || line.empty()) throw Error(path + ": empty file (no header)");
-  const std::vector<std::string> header = splitCsvLine(line);
+  const std::vector<std::string> header = haptic_run_detail::splitCsvLine(line);
   std::map<std::string, std::size_t> columnOf;
   for (std::size_t c = 0; c < header.size(); ++c) columnOf[header[c]] = c;
   static const char* const kNeeded[] = {"tick",     "time",     "sim_x",    "sim_y",    "sim_z",      "sim_qw",
@@ -140,12 +140,14 @@ RunFrames readHapticTicks(const std::string& folder) {
   while (std::getline(in, line)) {
     ++lineNumber;
     const std::string where = path + ":" + std::to_string(lineNumber);
-    const std::vector<std::string> fields = splitCsvLine(line);
+    const std::vector<std::string> fields = haptic_run_detail::splitCsvLine(line);
     if (fields.size() != header.size()) {
       throw Error(where + ": " + std::to_string(fields.size()) + " values, the header has " +
                   std::to_string(header.size()) + " (a truncated file?)");
     }
-    const auto value = [&](const char* name) { return parseFinite(fields[columnOf.at(name)], where, name); };
+    const auto value = [&](const char* name) {
+      return haptic_run_detail::parseFinite(fields[columnOf.at(name)], where, name);
+    };
     frames.frameNumbers.push_back(static_cast<int>(value("tick")));
     frames.times.push_back(value("time"));
     const Quat q(value("sim_qw"), value("sim_qx"), value("sim_qy"), value("sim_qz"));
@@ -163,7 +165,7 @@ RunFrames readHapticTicks(const std::string& folder) {
 }
 
 std::string hapticRunSceneFile(const std::string& folder) {
-  const std::string path = (fs::path(folder) / kRunSummaryFile).string();
+  const std::string path = (std::filesystem::path(folder) / kRunSummaryFile).string();
   std::ifstream in(path);
   if (!in) throw Error("cannot read the haptic run's summary '" + path + "'");
   nlohmann::json summary;
@@ -197,7 +199,7 @@ RunFolder readHapticRunFolder(const std::string& folder, const std::string& cach
   obstacle.isStatic = true;
   obstacle.mass = 0.0;
   if (scene.grid) {
-    obstacle.mesh = std::make_shared<const TriangleMesh>(insideNodeSurface(scene.grid->grid()));
+    obstacle.mesh = std::make_shared<const TriangleMesh>(haptic_run_detail::insideNodeSurface(scene.grid->grid()));
   } else if (scene.plane) {
     // As large as the tool's whole motion plus twice the tool's size.
     Box3 reach;
@@ -209,7 +211,7 @@ RunFolder readHapticRunFolder(const std::string& folder, const std::string& cach
     }
     const double side = reach.sizes().maxCoeff() + 2.0 * toolBox.sizes().maxCoeff();
     obstacle.mesh = std::make_shared<const TriangleMesh>(
-        planeSlab(*scene.plane, scene.worldFromSdf.inverse() * reach.center(), side));
+        haptic_run_detail::planeSlab(*scene.plane, scene.worldFromSdf.inverse() * reach.center(), side));
   } else {
     throw Error(sceneFile + ": the scene has no obstacle to draw");
   }
