@@ -32,6 +32,8 @@ int runPlot(const PlotOptions& options) {
   if (isHapticRunFolder(options.runDir)) {
     // A haptic run: force and torque magnitudes, contacts and penetration per tick (no scene needed).
     RunFrames ticks = readHapticTicks(options.runDir);
+    settings.rowName = "tick";
+    settings.timeLabel = "session time (s)";
     const RunPlotResult result = writeRunPlots(ticks, settings);
     for (const std::string& path : result.written) std::printf("plot: %s\n", path.c_str());
     return 0;
