@@ -85,8 +85,8 @@ else
 fi
 
 if command -v gnuplot >/dev/null 2>&1; then
-  out="$("$tool" plot "$run" --size 400x300 2>&1)" || fail "plot failed: $out"
-  for p in force torque contacts penetration; do check_png "$run/plots/$p.png" 400x300; done
+  out="$("$tool" plot "$run" --size 320x200 2>&1)" || fail "plot failed: $out"
+  for p in force torque contacts penetration; do check_png "$run/plots/$p.png" 320x200; done
   [ -f "$run/plots/overview.png" ] || fail "plots/overview.png missing"
   [ "$(grep -vc '^#' "$run/plots/series.dat")" -eq 300 ] || fail "series.dat does not have 300 rows"
   # The plotted force is |(force_x, force_y, force_z)| of ticks.csv, tick by tick (columns 17..19; series.dat:
