@@ -6,6 +6,7 @@
 #include <array>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -21,7 +22,6 @@
 namespace sdfccd::cli {
 // Named (not anonymous): the tool is a unity build, and these helpers must not meet other files' names.
 namespace haptic_run_detail {
-
 
 /// Splits one CSV line at commas (ticks.csv has no quoted fields).
 std::vector<std::string> splitCsvLine(const std::string& line) {
@@ -108,6 +108,23 @@ TriangleMesh planeSlab(const PlaneField& plane, const Vec3& around, double side)
   return mesh;
 }
 
+/// A file cut at a line's end reads as a shorter run: summary.json's "haptic_ticks" (when the folder has one and
+/// the session ended without an error, which may leave its last tick unrecorded) says how many rows there are.
+void checkTickCount(const std::string& folder, const std::string& ticksPath, std::size_t rows) {
+  std::ifstream in(std::filesystem::path(folder) / kRunSummaryFile);
+  if (!in) return;  // plots need no summary
+  const nlohmann::json summary = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!summary.is_object() || !summary.contains("haptic_ticks") || !summary["haptic_ticks"].is_number_integer()) {
+    return;
+  }
+  if (summary.contains("error") && !summary["error"].is_null()) return;
+  const auto expected = summary["haptic_ticks"].get<std::int64_t>();
+  if (expected != static_cast<std::int64_t>(rows)) {
+    throw Error(ticksPath + ": " + std::to_string(rows) + " ticks, summary.json's haptic_ticks is " +
+                std::to_string(expected) + " (a truncated file?)");
+  }
+}
+
 }  // namespace haptic_run_detail
 
 bool isHapticRunFolder(const std::string& folder) {
@@ -159,6 +176,7 @@ RunFrames readHapticTicks(const std::string& folder) {
     penetration.push_back(value("penetration"));
   }
   if (frames.times.empty()) throw Error(path + ": no ticks after the header");
+  haptic_run_detail::checkTickCount(folder, path, frames.times.size());
   frames.seriesSource = {
       {"force", "force_*"}, {"torque", "torque_*"}, {"contacts", "contacts"}, {"penetration", "penetration_m"}};
   return frames;

@@ -25,8 +25,9 @@ bool isHapticRunFolder(const std::string& folder);
 /// The ticks of a haptic run as RunFrames with one body (the simulated tool, pose columns sim_*): frame numbers
 /// are the ticks, times the ticks' times (s); series "force" and "torque" (magnitudes, N and N m), "contacts" and
 /// "penetration" (model units, source "penetration_m"). Throws sdfccd::Error with one line naming the file (and
-/// line) for a missing file or column, a row of the wrong length (a truncated file), or a value that is not a
-/// finite number.
+/// line) for a missing file or column, a row of the wrong length (a truncated file), a value that is not a
+/// finite number, or fewer or more rows than summary.json's "haptic_ticks" (when there is a summary and the
+/// session ended without an error).
 RunFrames readHapticTicks(const std::string& folder);
 
 /// The scene file of a haptic run: summary.json's "scene_file". Throws sdfccd::Error naming summary.json when

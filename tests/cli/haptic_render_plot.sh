@@ -97,7 +97,7 @@ if command -v gnuplot >/dev/null 2>&1; then
          END { exit !(bad == 0 && peak > 0) }' || fail "plotted force differs from ticks.csv's (or is zero)"
 fi
 
-# Bad input: a truncated ticks.csv (cut inside a row), and a summary without the scene file.
+# Bad input: a truncated ticks.csv (cut inside a row, or at a row's end), and a summary without the scene file.
 bad="$work/truncated"
 mkdir -p "$bad"
 cp "$run/summary.json" "$bad/"
@@ -106,6 +106,11 @@ expect_one_line_error render "$bad" --size 64x64
 grep -q "ticks.csv:[0-9]*: .*truncated" "$work/err.txt" || fail "truncated render message: $(cat "$work/err.txt")"
 expect_one_line_error plot "$bad"
 grep -q "ticks.csv:[0-9]*: .*truncated" "$work/err.txt" || fail "truncated plot message: $(cat "$work/err.txt")"
+# Cut at a line's end: the rows no longer match summary.json's haptic_ticks.
+head -n 101 "$run/ticks.csv" > "$bad/ticks.csv"
+expect_one_line_error plot "$bad"
+grep -q "ticks.csv: 100 ticks, summary.json's haptic_ticks is 300" "$work/err.txt" ||
+  fail "short ticks.csv message: $(cat "$work/err.txt")"
 old="$work/old"
 mkdir -p "$old"
 cp "$run/ticks.csv" "$old/"
