@@ -71,7 +71,9 @@ int runHaptics(const HapticsOptions& o) {
     checkOutput(o.out + "/ticks.csv", {o.scene});
     checkOutput(o.out + "/summary.json", {o.scene});
   }
-  const haptics::HapticSessionResult result = haptics::runHapticSession(scene, settings);
+  haptics::HapticSessionResult result = haptics::runHapticSession(scene, settings);
+  // The scene file, for `sdfccd render`/`plot` of the run folder (they reload the tool's mesh and the obstacle).
+  result.summary.sceneFile = std::filesystem::absolute(o.scene).lexically_normal().string();
   const std::string summary = haptics::summaryJson(result.summary);
   if (outFolder) {
     haptics::writeTickCsv(o.out + "/ticks.csv", result.ticks);

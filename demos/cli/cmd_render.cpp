@@ -5,6 +5,8 @@
 /// frame number), RUN_DIR/contact_sheet.png (evenly spaced frames, first and last included, left to right then
 /// top to bottom) and, when ffmpeg is on PATH, RUN_DIR/frames.mp4 (skipped with a note otherwise). The camera is
 /// the scene's "camera", else one automatic framing of every pose of the run, fixed for all frames.
+/// A haptic run folder (`sdfccd haptics --out`, haptic_run.h) is drawn the same way: the tool at the poses of
+/// ticks.csv (frame numbers are ticks) and the obstacle, from the scene summary.json names.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +14,10 @@
 #include <memory>
 
 #include "cli/command_registry.h"
+#if SDFCCD_HAS_HAPTICS
+#include "cli/haptic_run.h"
+#include "sdfccd/model/model_cache_folder.h"
+#endif
 #include "cli/external_program.h"
 #include "cli/progress_bar.h"
 #include "cli/run_folder.h"
@@ -23,6 +29,7 @@
 #if SDFCCD_HAS_RENDER
 #include "sdfccd/render/contact_sheet.h"
 #include "sdfccd/render/png_file.h"
+#include "sdfccd/render/render_camera.h"
 #endif
 
 namespace sdfccd::cli {
@@ -41,10 +48,33 @@ struct RenderOptions {
   bool noVideo = false;
   int supersample = 2;
   bool groundContacts = false;
-  double depthScale = 0.005;  // m
+  double depthScale = 0.005;                 // m
+  std::string cache;                         // haptic runs: model cache of fields built from meshes
+  const CLI::Option* cacheOption = nullptr;  // given: --cache wins, even "" (no cache)
 };
 
 #if SDFCCD_HAS_RENDER
+
+/// True for a haptic run folder (ticks.csv, no frames.csv) in a build with the haptics module.
+bool isHapticRun(const RenderOptions& options) {
+#if SDFCCD_HAS_HAPTICS
+  return isHapticRunFolder(options.runDir);
+#else
+  (void)options;
+  return false;
+#endif
+}
+
+/// A simulate run (frames.csv), or a haptic run (ticks.csv: the tool at its recorded poses and the obstacle).
+RunFolder readAnyRunFolder(const RenderOptions& options) {
+#if SDFCCD_HAS_HAPTICS
+  if (isHapticRun(options)) {
+    return readHapticRunFolder(options.runDir,
+                               modelCacheFolder(options.cacheOption->count() > 0 ? &options.cache : nullptr));
+  }
+#endif
+  return readRunFolder(options.runDir);
+}
 
 /// The corners of every body's box at every pose of the run: what automatic framing must keep in view.
 std::vector<Vec3> runFramingPoints(const RunScene& scene, const RunFrames& frames) {
@@ -126,7 +156,7 @@ int runRender(const RenderOptions& options) {
   if (options.sheetCells < 0 || options.thumbWidth < 16 || options.thumbWidth > 4096) {
     throw Error("--sheet-cells must be >= 0 and --thumb-width in 16..4096");
   }
-  const RunFolder run = readRunFolder(options.runDir);
+  const RunFolder run = readAnyRunFolder(options);
   const RunFrames& frames = run.frames;
   const int frameCount = static_cast<int>(frames.times.size());
   const int every = options.every > 0 ? options.every : std::max(1, (frameCount + 249) / 250);
@@ -137,6 +167,14 @@ int runRender(const RenderOptions& options) {
   settings.every = every;
   settings.supersample = options.supersample;
   if (!settings.camera) settings.framingPoints = runFramingPoints(run.scene, frames);
+  if (isHapticRun(options)) {
+    // A haptic run: its scenes are centimetres across, below the 0.1 m that automatic framing keeps at least.
+    render::CameraFramingSettings framing;
+    framing.minimumSize = 1e-3;
+    const render::RenderCamera camera =
+        render::framePoints(settings.framingPoints, static_cast<double>(width) / height, framing);
+    settings.camera = SceneCamera{camera.eye, camera.target, camera.up, camera.fovDegrees};
+  }
   RunFrameRenderer renderer(run.scene.bodies, settings);
 
   const std::string outDir = options.outDir.empty() ? (fs::path(options.runDir) / "frames").string() : options.outDir;
@@ -205,7 +243,8 @@ int runRender(const RenderOptions&) {
 const CommandRegistrar cmd_renderRegistrar("render", [](CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a saved run's frames, contact sheet and MP4 (no re-simulation)");
-  cmd->add_option("run_dir", options->runDir, "Run folder written by `sdfccd simulate --out`")->required();
+  cmd->add_option("run_dir", options->runDir, "Run folder written by `sdfccd simulate --out` or `sdfccd haptics --out`")
+      ->required();
   cmd->add_option("--size", options->size, "Frame size WIDTHxHEIGHT (default 960x540)");
   cmd->add_option("--every", options->every, "Render every K-th frame (default: about 250 frames in all)");
   cmd->add_option("--out", options->outDir, "Folder for the frames (default RUN_DIR/frames)");
@@ -217,6 +256,9 @@ const CommandRegistrar cmd_renderRegistrar("render", [](CLI::App& app) {
                 "Mark mesh vertices below the ground, yellow to red by depth (a sunk body shows red)");
   cmd->add_option("--depth-scale", options->depthScale, "With --ground-contacts: depth drawn fully red (m, 0.005)");
   cmd->add_flag("--no-video", options->noVideo, "No MP4 even when ffmpeg is installed");
+  options->cacheOption = cmd->add_option("--cache", options->cache,
+                                         "Haptic runs: cache of fields built from meshes (\"\" disables; default as "
+                                         "sdfccd haptics)");
   return std::function<int()>([options]() { return runRender(*options); });
 });
 

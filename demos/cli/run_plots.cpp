@@ -31,6 +31,9 @@ const PlotSpec kPlots[] = {
     {"kinetic_energy", "kinetic_energy.png", "Kinetic energy per frame", "kinetic energy (J)", "#1f77b4"},
     {"contacts", "contacts.png", "Contacts per frame", "contact count", "#2ca02c"},
     {"ccd_seconds", "ccd_time.png", "CCD time per frame", "CCD time (ms)", "#9467bd"},
+    // Haptic runs only (haptic_run.h): magnitudes of the force and torque on the device per tick.
+    {"force", "force.png", "Force on the device per frame", "force (N)", "#ff7f0e"},
+    {"torque", "torque.png", "Torque on the device per frame", "torque (N m)", "#8c564b"},
 };
 
 }  // namespace
@@ -49,7 +52,7 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
   for (const PlotSpec& plot : kPlots) {
     if (frames.series.count(plot.series) != 0) {
       present.push_back(&plot);
-    } else {
+    } else if (std::string(plot.series) != "force" && std::string(plot.series) != "torque") {
       result.skipped.push_back(std::string(plot.series) + ": no such column in the frames CSV");
     }
   }
@@ -94,14 +97,22 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
     const bool metres = source != frames.seriesSource.end() && source->second.find("_m") != std::string::npos;
     return metres ? "penetration (m)" : "penetration (grid cells)";
   };
+  // "... per frame", or per the run's own row (a haptic run's tick).
+  auto title = [&](const PlotSpec* plot) {
+    std::string text = plot->title;
+    const std::size_t at = text.rfind(" per frame");
+    if (at != std::string::npos) text = text.substr(0, at) + " per " + settings.rowName;
+    return text;
+  };
   auto makeScript = [&](const std::string& pngFolder) {
     std::ostringstream script;
-    script << terminal << "set datafile commentschars '#'\nset grid\nset key off\nset xlabel 'simulated time (s)'\n"
+    script << terminal << "set datafile commentschars '#'\nset grid\nset key off\nset xlabel "
+           << gnuplotQuoted(settings.timeLabel) << "\n"
            << "set style line 1 linewidth 1.5\n";
     int column = 3;
     for (const PlotSpec* plot : present) {
       script << "set output " << gnuplotQuoted((fs::path(pngFolder) / plot->file).string()) << "\nset title "
-             << gnuplotQuoted(plot->title) << "\nset ylabel " << gnuplotQuoted(yLabel(plot)) << "\nplot "
+             << gnuplotQuoted(title(plot)) << "\nset ylabel " << gnuplotQuoted(yLabel(plot)) << "\nplot "
              << gnuplotQuoted(dataPath) << " using 2:" << column << " with lines linewidth 1.5 linecolor rgb '"
              << plot->color << "'\nunset output\n";
       ++column;
@@ -111,7 +122,7 @@ RunPlotResult writeRunPlots(const RunFrames& frames, const RunPlotSettings& sett
            << "\nset multiplot layout " << rows << ",2\n";
     column = 3;
     for (const PlotSpec* plot : present) {
-      script << "set title " << gnuplotQuoted(plot->title) << "\nset ylabel " << gnuplotQuoted(yLabel(plot))
+      script << "set title " << gnuplotQuoted(title(plot)) << "\nset ylabel " << gnuplotQuoted(yLabel(plot))
              << "\nplot " << gnuplotQuoted(dataPath) << " using 2:" << column
              << " with lines linewidth 1.5 linecolor rgb '" << plot->color << "'\n";
       ++column;

@@ -18,9 +18,11 @@ namespace sdfccd::cli {
 
 /// Sizes and places of the plots.
 struct RunPlotSettings {
-  int width = 900;        ///< pixels of one plot
-  int height = 420;       ///< pixels of one plot
-  std::string outputDir;  ///< default RUN_DIR/plots
+  int width = 900;                               ///< pixels of one plot
+  int height = 420;                              ///< pixels of one plot
+  std::string outputDir;                         ///< default RUN_DIR/plots
+  std::string rowName = "frame";                 ///< what one row is, in titles ("tick" for haptic runs)
+  std::string timeLabel = "simulated time (s)";  ///< the x axis
 };
 
 /// What writeRunPlots made.

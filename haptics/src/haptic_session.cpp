@@ -459,6 +459,7 @@ std::string summaryJson(const HapticSessionSummary& s) {
   };
   o << "{\n"
     << "  \"scene\": \"" << s.scene << "\",\n"
+    << (s.sceneFile.empty() ? std::string() : "  \"scene_file\": " + jsonString(s.sceneFile) + ",\n")
     << "  \"method\": \"" << s.method << "\",\n"
     << "  \"real_time\": " << s.realTime << ",\n"
     << "  \"seconds\": " << num(s.seconds) << ",\n"

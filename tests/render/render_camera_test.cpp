@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "sdfccd/error.h"
 
 namespace sdfccd::render {
@@ -54,6 +58,29 @@ TEST(RenderCamera, FramingFitsEveryCornerWithItsMargin) {
   }
   // An empty box is framed as a small box at the origin rather than failing.
   EXPECT_NO_THROW(frameBox(Box3(), 1.0));
+}
+
+TEST(RenderCamera, SmallScenesFillTheImageWithASmallMinimumSize) {
+  // A 1 cm cube (a haptic scene's size): with the default minimum (0.1 m) it is framed as a 0.1 m box and stays
+  // small in the image; with minimumSize 1 mm it is fitted tightly, as large boxes are.
+  std::vector<Vec3> corners;
+  const Box3 box(Vec3(0.2, 0.3, 0.4), Vec3(0.21, 0.31, 0.41));
+  for (int corner = 0; corner < 8; ++corner) corners.push_back(box.corner(static_cast<Box3::CornerType>(corner)));
+  const auto largestOffset = [&](const RenderCamera& camera) {
+    double largest = 0.0;  // how close a corner comes to the border, in fractions of the half-size
+    for (const Vec3& c : corners) {
+      const PixelProjection p = projectToPixel(camera, c, 400, 400);
+      EXPECT_TRUE(p.inImage);
+      largest = std::max(largest, std::max(std::abs(p.pixel.x() - 200.0), std::abs(p.pixel.y() - 200.0)) / 200.0);
+    }
+    return largest;
+  };
+  CameraFramingSettings small;
+  small.minimumSize = 1e-3;
+  EXPECT_LT(largestOffset(framePoints(corners, 1.0)), 0.4);
+  EXPECT_GT(largestOffset(framePoints(corners, 1.0, small)), 0.75);
+  small.minimumSize = 0.0;
+  EXPECT_THROW(framePoints(corners, 1.0, small), Error);
 }
 
 TEST(RenderCamera, BadCamerasAreClearErrors) {

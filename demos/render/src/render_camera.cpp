@@ -90,10 +90,14 @@ RenderCamera framePoints(const std::vector<Vec3>& pointsInWorld, double aspect, 
     box.extend(p);
   }
   std::vector<Vec3> points = pointsInWorld;
-  if (box.isEmpty() || (box.sizes().array() < 0.1).all()) {
-    // Nothing (or almost nothing) to frame: a 0.1 m box around it.
+  if (!(settings.minimumSize > 0.0) || !std::isfinite(settings.minimumSize)) {
+    throw Error("camera framing: the minimum size must be > 0");
+  }
+  if (box.isEmpty() || (box.sizes().array() < settings.minimumSize).all()) {
+    // Nothing (or almost nothing) to frame: a box of the minimum size around it.
     const Vec3 centre = box.isEmpty() ? Vec3::Zero() : Vec3(box.center());
-    const Box3 small(centre - Vec3::Constant(0.05), centre + Vec3::Constant(0.05));
+    const Vec3 half = Vec3::Constant(0.5 * settings.minimumSize);
+    const Box3 small(centre - half, centre + half);
     for (int corner = 0; corner < 8; ++corner) points.push_back(small.corner(static_cast<Box3::CornerType>(corner)));
     box.extend(small);
   }

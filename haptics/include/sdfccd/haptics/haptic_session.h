@@ -83,6 +83,9 @@ struct HapticTickRecord {
 
 struct HapticSessionSummary {
   std::string scene;
+  /// The scene file, absolute (summary "scene_file", for `sdfccd render`/`plot` of a run folder); "" = not
+  /// written (sessions run from a scene in memory).
+  std::string sceneFile;
   std::string method;
   bool realTime = false;
   double seconds = 0.0;

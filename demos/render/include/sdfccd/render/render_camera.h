@@ -48,11 +48,15 @@ struct CameraFramingSettings {
   Vec3 viewDirection = Vec3(-0.55, -0.42, -1.0);  ///< direction the camera looks along (world; normalised)
   double fovDegrees = 35.0;                       ///< vertical field of view (degrees)
   double margin = 1.12;                           ///< distance factor beyond the tight fit (>= 1)
+  /// Points spanning less than this on every axis are framed as a box of this size (m, > 0): 0.1 m suits the
+  /// simulation scenes; haptic scenes, centimetres across, pass a smaller one.
+  double minimumSize = 0.1;
 };
 
 /// A camera that sees every point of `pointsInWorld` in an image of aspect = width / height, looking along
 /// settings.viewDirection; the target is moved sideways so the points' projection is centred. Points spanning
-/// less than 0.1 m are framed as a 0.1 m box. Throws sdfccd::Error for non-finite points or bad settings.
+/// less than settings.minimumSize (0.1 m) are framed as a box of that size. Throws sdfccd::Error for non-finite points
+/// or bad settings.
 RenderCamera framePoints(const std::vector<Vec3>& pointsInWorld, double aspect,
                          const CameraFramingSettings& settings = {});
 
