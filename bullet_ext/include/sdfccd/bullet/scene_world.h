@@ -45,6 +45,7 @@ struct SceneWorldSettings {
   std::optional<bool> useTree;             ///< overrides contact.tree
   std::optional<ForceTiming> forceTiming;  ///< overrides contact.force_timing
   int shadowLinearEvery = 0;               ///< see SdfccdContactSettings::shadowLinearEvery
+  bool coherentCcd = true;                 ///< see SdfccdContactSettings::coherentCcd
   bool allowSleeping = true;               ///< false: bodies never deactivate (benchmarks time every frame)
   ProgressCallback buildProgress;          ///< fraction of the model builds done
 };
