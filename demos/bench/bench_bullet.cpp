@@ -103,6 +103,25 @@ Table4Run runTable4Scene(const Scene& scene, int frames, const BenchBulletOption
   return run;
 }
 
+// The 20-bunny drop as shipped (sleeping allowed), fresh vs coherent: every CCD query of the step (ground too).
+void runPileCcd(const BenchBulletOptions& o) {
+  const Scene scene = loadScene(o.scenes + "/drop-bunnies.json");
+  const int frames = o.quick ? scene.frames / 4 : scene.frames;
+  double seconds[2] = {0.0, 0.0};
+  for (int coherent = 0; coherent < 2; ++coherent) {
+    SceneWorldSettings settings;
+    settings.cacheDir = o.cache;
+    settings.coherentCcd = coherent == 1;
+    SceneWorld world(scene, settings);
+    for (int f = 0; f < frames; ++f) world.step();
+    seconds[coherent] = world.contacts().statistics().ccdSeconds;
+  }
+  std::printf("20-bunny drop (drop-bunnies, %d frames): CCD %.3f s fresh, %.3f s coherent (%.2fx)\n", frames,
+              seconds[0], seconds[1], seconds[1] > 0 ? seconds[0] / seconds[1] : 0.0);
+  csvRow("table4", "20 bunnies", "ccd_seconds", seconds[0]);
+  csvRow("table4", "20 bunnies", "coherent_ccd_seconds", seconds[1]);
+}
+
 // Each scene twice on the same motion (the coherent query's contacts are the fresh one's bit for bit): the fresh
 // tree with the point-by-point repeats, then the tree started from each pair's last front (coherent).
 void runTable4(const BenchBulletOptions& o) {

@@ -14,7 +14,10 @@ namespace sdfccd {
 namespace detail {
 
 /// Poses kept before the unused ones are dropped.
-constexpr std::size_t kCoherencePoses = 32;
+constexpr std::size_t kCoherencePoses = 8;
+/// Front nodes kept from the last query try to ascend once every this many queries (nodes re-tested this
+/// query try at once): the check costs as much as the certificate's, and parents rarely qualify step to step.
+constexpr std::uint64_t kAscentPeriod = 8;
 
 /// Distance from `p` to the box (0 inside).
 inline double distanceToBox(const Vec3& p, const Box3& box) {
@@ -40,10 +43,11 @@ class CoherentQuery {
   void run(RigidCcdResult& out) {
     std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
     next.clear();
+    const bool ascend = m_cache.queries++ % kAscentPeriod == 0;
     for (const RigidCcdCoherence::Entry& entry : m_cache.front) {
       if (certified(entry, 1.0)) {
         ++out.stats.certified;
-        emit(entry, next);
+        emit(entry, next, ascend);
       } else {
         descend(entry.node, out, next);
       }
@@ -153,9 +157,9 @@ class CoherentQuery {
 
   /// Appends `e` to the new front, then replaces complete certified sibling groups at its end by their parent
   /// while the parent's certificate (its first child's) holds with room to spare.
-  void emit(const RigidCcdCoherence::Entry& e, std::vector<RigidCcdCoherence::Entry>& next) const {
+  void emit(const RigidCcdCoherence::Entry& e, std::vector<RigidCcdCoherence::Entry>& next, bool ascend = true) const {
     next.push_back(e);
-    while (true) {
+    while (ascend) {
       const int node = next.back().node;
       const int parent = m_cache.parent[node];
       if (parent < 0) return;

@@ -56,6 +56,7 @@ class RigidCcdCoherence {
   int nodeCount = 0;
   double sigma = 0.0;
   double lipschitz = 0.0;
+  std::uint64_t queries = 0;        // coherent queries run (paces the ascent of kept nodes)
   std::vector<Entry> scratchFront;  // reused buffers
   std::vector<int> scratchStack;
 };
