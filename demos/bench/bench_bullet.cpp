@@ -162,6 +162,7 @@ void runTable4(const BenchBulletOptions& o) {
       "* extrapolated from every %d-th step (%d with --quick). Fields: 128^3 (paper: 1024^3).\n"
       "coherent: the tree started from each pair's last front (same contacts); speedups are over linear.\n",
       rows[2].shadowEvery, rows[2].shadowEveryQuick);
+  runPileCcd(o);
 }
 
 // Prints the trials; CSV items are "<name>@<timestep>" (or "<name>@k<stiffness>" for a stiffness walk).

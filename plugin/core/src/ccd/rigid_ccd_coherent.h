@@ -78,7 +78,7 @@ class CoherentQuery {
         c.reachFromOrigin[n] = m_tree.center(n).norm() + m_tree.radius(n);
         for (int k = 0; k < m_tree.childCount(n); ++k) c.parent[m_tree.firstChild(n) + k] = n;
       }
-      c.front.push_back({0, -1, 0.0, RigidCcdCoherence::Kind::None});
+      c.front.push_back({0, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None});
     }
     c.poses.push_back(end);
     m_endPose = static_cast<int>(c.poses.size()) - 1;
@@ -97,17 +97,23 @@ class CoherentQuery {
   bool certified(const RigidCcdCoherence::Entry& e, double headroom) const {
     if (e.kind == RigidCcdCoherence::Kind::None) return false;
     const double moved = m_rotation[e.pose] * m_cache.reachFromOrigin[e.node] + m_translation[e.pose];
-    const double reach = (m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth;
-    // Absolute slack of the same relative size as the traversal's, on the magnitudes involved.
-    const double slack = tolerance::kRelativeSlack * (std::abs(e.clearance) + std::abs(m_settings.sigma) + reach);
-    if (e.kind == RigidCcdCoherence::Kind::Box) return e.clearance > reach + slack;
-    return e.clearance - m_bounds.lipschitz * reach > m_settings.sigma + slack;
+    return (m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth < e.room;
+  }
+
+  /// The distance the node's points may reach from its centre at the certificate's pose without touching
+  /// (`room` of the entry; the same for every node of that centre), with slack against rounding of the same
+  /// relative size as the traversal's, on the magnitudes involved.
+  double roomOf(const RigidCcdCoherence::Entry& e) const {
+    constexpr double eps = tolerance::kRelativeSlack;
+    if (e.kind == RigidCcdCoherence::Kind::Box) return e.clearance * (1.0 - eps);
+    const double margin = e.clearance - m_settings.sigma - eps * (std::abs(e.clearance) + std::abs(m_settings.sigma));
+    return margin / m_bounds.lipschitz * (1.0 - eps);
   }
 
   /// A certificate for `node` at this step's end pose (whether it is worth anything, certified() decides each
   /// step; None only for a non-finite value).
   RigidCcdCoherence::Entry certify(int node) const {
-    RigidCcdCoherence::Entry e{node, m_endPose, 0.0, RigidCcdCoherence::Kind::None};
+    RigidCcdCoherence::Entry e{node, m_endPose, 0.0, 0.0, RigidCcdCoherence::Kind::None};
     const Vec3 c1 = m_query.endOf(m_tree.center(node));
     if (m_bounds.bounded && !m_bounds.box.contains(c1)) {
       e.kind = RigidCcdCoherence::Kind::Box;
@@ -117,6 +123,7 @@ class CoherentQuery {
       e.clearance = m_field.distance(c1);
     }
     if (!std::isfinite(e.clearance)) e.kind = RigidCcdCoherence::Kind::None;
+    e.room = roomOf(e);
     return e;
   }
 
@@ -132,14 +139,14 @@ class CoherentQuery {
       if (m_tree.isLeaf(node)) {
         const int point = m_tree.point(node);
         if (m_query.ignored(point)) {
-          emit({node, -1, 0.0, RigidCcdCoherence::Kind::None}, next);  // tested again when no longer ignored
+          emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);  // tested again when no longer ignored
           continue;
         }
         ++out.stats.nodesVisited;
         const std::size_t before = out.contacts.size();
         m_query.queryPoint(point, m_segment, out.contacts, out.stats);
         if (out.contacts.size() > before) {
-          emit({node, -1, 0.0, RigidCcdCoherence::Kind::None}, next);
+          emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);
         } else {
           emit(certify(node), next);
         }
@@ -207,8 +214,8 @@ class CoherentQuery {
   RigidCcdCoherence& m_cache;
   FieldCullingBounds m_bounds;
   int m_endPose = -1;
-  std::vector<double> m_rotation;     // per kept pose: largest ||R - R_k||_F over the step's two poses
-  std::vector<double> m_translation;  // and largest |t - t_k|
+  std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
+  std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|
   SegmentCcdResult& m_segment;
 };
 

@@ -45,6 +45,7 @@ class RigidCcdCoherence {
     int node = 0;
     int pose = -1;  // index into `poses` (certified entries)
     double clearance = 0.0;
+    double room = 0.0;  // how far below the centre (radius + motion) the certificate allows
     Kind kind = Kind::None;
   };
   std::vector<Entry> front;
@@ -59,6 +60,8 @@ class RigidCcdCoherence {
   std::uint64_t queries = 0;        // coherent queries run (paces the ascent of kept nodes)
   std::vector<Entry> scratchFront;  // reused buffers
   std::vector<int> scratchStack;
+  std::vector<double> scratchRotation;
+  std::vector<double> scratchTranslation;
 };
 
 }  // namespace sdfccd
