@@ -143,19 +143,27 @@ class CoherentQuery {
           continue;
         }
         ++out.stats.nodesVisited;
+        // A fresh certificate at this step's end pose rules the point out when its step is shorter than its
+        // clearance (one lookup instead of the segment walk; the same Lipschitz argument as a kept one).
+        const RigidCcdCoherence::Entry e = certify(node);
+        if (certified(e, 1.0)) {
+          emit(e, next);
+          continue;
+        }
         const std::size_t before = out.contacts.size();
         m_query.queryPoint(point, m_segment, out.contacts, out.stats);
         if (out.contacts.size() > before) {
           emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);
         } else {
-          emit(certify(node), next);
+          emit(e, next);
         }
         continue;
       }
       ++out.stats.nodesVisited;
+      const RigidCcdCoherence::Entry e = certify(node);  // as for a point: may spare the segment test
       double first = 0.0;
-      if (!m_query.nodeMayCollide(node, 0.0, m_segment, out.stats, first)) {
-        emit(certify(node), next);
+      if (certified(e, 1.0) || !m_query.nodeMayCollide(node, 0.0, m_segment, out.stats, first)) {
+        emit(e, next);
         continue;
       }
       for (int c = m_tree.childCount(node) - 1; c >= 0; --c) stack.push_back(m_tree.firstChild(node) + c);
