@@ -8,7 +8,10 @@
 ///    repeated point by point and timed (SdfccdContactSettings::shadowLinearEvery; n = 1 for bunny and bowl,
 ///    so their linear totals are measured, not estimated; the dragon's is extrapolated from every n-th step).
 ///    Bodies never sleep here, so every frame costs its CCD. Thread CPU time, one thread. Paper (2015 Xeon,
-///    1024^3 fields): linear / tree = 8 / 2.5 s, 20.3 / 4.5 s, 671.6 / 2.6 s.
+///    1024^3 fields): linear / tree = 8 / 2.5 s, 20.3 / 4.5 s, 671.6 / 2.6 s. Each drop runs twice: the fresh
+///    tree (with the linear repeats), then the coherent tree (SdfccdContactSettings::coherentCcd: each pair and
+///    role starts from its last front, rigid_ccd_coherence.h; same contacts, so the same motion). Then the
+///    20-bunny drop (drop-bunnies as shipped): its whole CCD time, fresh vs coherent.
 /// 2. Fig. 10a stability: 20 bunnies (drop-bunnies without friction and without time-of-impact clamping, so
 ///    only the penalty models differ). Under the scene's stiffness, the largest stable timestep of the
 ///    continuous and of the discrete model (paper: 3x larger for continuous); then at the continuous model's

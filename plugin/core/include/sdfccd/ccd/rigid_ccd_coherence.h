@@ -11,10 +11,12 @@
 /// P_k during the step (the segment's ends bound it; the Frobenius norm bounds the rotation's). So the node
 /// cannot touch when clearance - L (rho + d) > sigma (Phi; L the field's gradient bound) or clearance > rho + d
 /// (Box), with slack against rounding. Such a node is skipped with no field lookup; any other front node is
-/// tested as the fresh traversal tests it and expanded (descent), and the new front's complete sibling groups
-/// whose parent is certified with room to spare are replaced by the parent (ascent; the parent's centre is its
-/// first child's, so the first child's certificate is the parent's). Leaves run the same point query as the
-/// fresh traversal, so the contacts are the fresh query's bit for bit (tested), in the same order (by point).
+/// first tried against a fresh certificate at the step's end pose (one lookup: enough when the step is shorter
+/// than the clearance), then tested as the fresh traversal tests it and expanded (descent), and the new front's
+/// complete sibling groups whose parent is certified with room to spare are replaced by the parent (ascent; the
+/// parent's centre is its first child's, so the first child's certificate is the parent's). Leaves run the same point
+/// query as the fresh traversal, so the contacts are the fresh query's bit for bit (tested), in the same order (by
+/// point).
 ///
 /// Ownership: the caller keeps one per (shell, field) pair and role and passes it to every query of that pair;
 /// a query with another tree, field, sigma or gradient bound starts afresh. Not thread safe: one query at a time.
