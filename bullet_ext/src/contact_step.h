@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/ccd/rigid_ccd_coherence.h"
 #include "sdfccd/response/friction_anchor.h"
 #include "sdfccd/response/time_of_impact_clamp.h"
 
@@ -75,11 +76,13 @@ struct SdfccdContactSystem::Role {
   double dampingRatio = -1.0;                // zeta of the pair (from its restitution, or the settings')
   const PenaltySettings* penalty = nullptr;  // the pair's penalty parameters (per-body overrides combined)
   FrictionAnchorTable* anchors = nullptr;    // this pair and role's anchors, kept across steps
+  RigidCcdCoherence* coherence = nullptr;    // this pair and role's CCD front, kept across steps
 };
 
 /// The friction anchors of one pair and role, kept across steps (design 2.4), keyed by the pair's manifold.
 struct SdfccdContactSystem::AnchorSlot {
   FrictionAnchorTable table;
+  RigidCcdCoherence coherence;  // the CCD's last front (rigid_ccd_coherence.h): exact whatever it holds
   const btCollisionObject* shellObject = nullptr;  // a reused manifold with other objects starts afresh
   const btCollisionObject* fieldObject = nullptr;
   std::int64_t lastStep = -1;  // dropped when a step passes without its pair

@@ -185,6 +185,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   m_world->setGravity(m_scene.has("gravity") ? toBt(m_scene.gravity) : btVector3(0, 0, 0));
   SdfccdContactSettings contactSettings = contactSettingsFor(m_scene);
   contactSettings.shadowLinearEvery = settings.shadowLinearEvery;
+  contactSettings.coherentCcd = settings.coherentCcd;
   m_contacts = registerSdfccdAlgorithms(m_world, contactSettings);
 
   if (m_scene.has("ground")) {

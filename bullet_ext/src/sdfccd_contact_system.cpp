@@ -241,6 +241,12 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (!closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor) {
       role.anchors = anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
     }
+    if (!closestPointsOnly && m_settings.coherentCcd) {  // after anchorTable(), which reads lastStep
+      std::unique_ptr<AnchorSlot>& slot = m_anchorSlots[{manifold, roleIndex}];
+      if (!slot) slot = std::make_unique<AnchorSlot>();
+      slot->lastStep = m_stepCounter;
+      role.coherence = &slot->coherence;
+    }
     ++roleIndex;
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
@@ -337,6 +343,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   query.penalty.dampingRatio = role.dampingRatio;
   query.cellSize = cellSize;
   query.anchors = role.anchors;
+  query.coherence = role.coherence;
   query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose
   query.octree = m_settings.octree;
   query.useTree = m_settings.useTree;

@@ -8,7 +8,10 @@
 ///    repeated point by point and timed (SdfccdContactSettings::shadowLinearEvery; n = 1 for bunny and bowl,
 ///    so their linear totals are measured, not estimated; the dragon's is extrapolated from every n-th step).
 ///    Bodies never sleep here, so every frame costs its CCD. Thread CPU time, one thread. Paper (2015 Xeon,
-///    1024^3 fields): linear / tree = 8 / 2.5 s, 20.3 / 4.5 s, 671.6 / 2.6 s.
+///    1024^3 fields): linear / tree = 8 / 2.5 s, 20.3 / 4.5 s, 671.6 / 2.6 s. Each drop runs twice: the fresh
+///    tree (with the linear repeats), then the coherent tree (SdfccdContactSettings::coherentCcd: each pair and
+///    role starts from its last front, rigid_ccd_coherence.h; same contacts, so the same motion). Then the
+///    20-bunny drop (drop-bunnies as shipped): its whole CCD time, fresh vs coherent.
 /// 2. Fig. 10a stability: 20 bunnies (drop-bunnies without friction and without time-of-impact clamping, so
 ///    only the penalty models differ). Under the scene's stiffness, the largest stable timestep of the
 ///    continuous and of the discrete model (paper: 3x larger for continuous); then at the continuous model's
@@ -76,6 +79,54 @@ void csvRow(const std::string& part, const std::string& item, const std::string&
   g_csv << part << "," << item << "," << key << "," << value << "\n";
 }
 
+// One drop of a Table 4 scene; the CCD times between the objects (s, thread CPU).
+struct Table4Run {
+  double tree = 0.0;    // the tree's queries (fresh or coherent)
+  double linear = 0.0;  // the point-by-point repeats, over every frame (extrapolated when shadowEvery > 1)
+  double ground = 0.0;
+  int points = 0;
+  double maxPenetrationCells = 0.0;
+};
+
+Table4Run runTable4Scene(const Scene& scene, int frames, const BenchBulletOptions& o, int shadowEvery, bool coherent) {
+  SceneWorldSettings settings;
+  settings.cacheDir = o.cache;
+  settings.allowSleeping = false;
+  settings.shadowLinearEvery = shadowEvery;
+  settings.coherentCcd = coherent;
+  SceneWorld world(scene, settings);
+  for (int f = 0; f < frames; ++f) world.step();
+  const SdfccdContactStatistics& stats = world.contacts().statistics();
+  Table4Run run;
+  run.tree = stats.ccdSeconds - stats.groundCcdSeconds;
+  run.linear = stats.shadowSteps > 0 ? stats.shadowLinearSeconds * double(frames) / double(stats.shadowSteps) : 0.0;
+  run.ground = stats.groundCcdSeconds;
+  for (int i = 0; i < world.bodyCount(); ++i) run.points = std::max(run.points, int(world.model(i).shell().size()));
+  run.maxPenetrationCells = world.maxPenetrationCells();
+  return run;
+}
+
+// The 20-bunny drop as shipped (sleeping allowed), fresh vs coherent: every CCD query of the step (ground too).
+void runPileCcd(const BenchBulletOptions& o) {
+  const Scene scene = loadScene(o.scenes + "/drop-bunnies.json");
+  const int frames = o.quick ? scene.frames / 4 : scene.frames;
+  double seconds[2] = {0.0, 0.0};
+  for (int coherent = 0; coherent < 2; ++coherent) {
+    SceneWorldSettings settings;
+    settings.cacheDir = o.cache;
+    settings.coherentCcd = coherent == 1;
+    SceneWorld world(scene, settings);
+    for (int f = 0; f < frames; ++f) world.step();
+    seconds[coherent] = world.contacts().statistics().ccdSeconds;
+  }
+  std::printf("20-bunny drop (drop-bunnies, %d frames): CCD %.3f s fresh, %.3f s coherent (%.2fx)\n", frames,
+              seconds[0], seconds[1], seconds[1] > 0 ? seconds[0] / seconds[1] : 0.0);
+  csvRow("table4", "20 bunnies", "ccd_seconds", seconds[0]);
+  csvRow("table4", "20 bunnies", "coherent_ccd_seconds", seconds[1]);
+}
+
+// Each scene twice on the same motion (the coherent query's contacts are the fresh one's bit for bit): the fresh
+// tree with the point-by-point repeats, then the tree started from each pair's last front (coherent).
 void runTable4(const BenchBulletOptions& o) {
   const Table4Row rows[] = {
       {"bunny", "drop-bunny.json", 8.0, 2.5, 1, 1},
@@ -84,38 +135,37 @@ void runTable4(const BenchBulletOptions& o) {
   };
   std::printf("\nTable 4: CCD time between the objects during a drop (s, one thread)%s\n",
               o.quick ? " -- QUICK: a quarter of the frames" : "");
-  std::printf("%-11s %9s %7s | %11s %9s %8s | %11s %9s %8s | %9s\n", "model", "#points", "#frames", "linear", "tree",
-              "speedup", "paper lin.", "paper tree", "speedup", "ground");
+  std::printf("%-11s %9s %7s | %11s %9s %8s | %9s %8s | %11s %9s %8s | %9s\n", "model", "#points", "#frames", "linear",
+              "tree", "speedup", "coherent", "speedup", "paper lin.", "paper tree", "speedup", "ground");
   for (const Table4Row& row : rows) {
     Scene scene = loadScene(o.scenes + "/" + row.scene);
     const int frames = o.quick ? scene.frames / 4 : scene.frames;
-    SceneWorldSettings settings;
-    settings.cacheDir = o.cache;
-    settings.allowSleeping = false;
-    settings.shadowLinearEvery = o.quick ? row.shadowEveryQuick : row.shadowEvery;
-    SceneWorld world(scene, settings);
-    for (int f = 0; f < frames; ++f) world.step();
-    const SdfccdContactStatistics& stats = world.contacts().statistics();
-    const double tree = stats.ccdSeconds - stats.groundCcdSeconds;
-    const double linear =
-        stats.shadowSteps > 0 ? stats.shadowLinearSeconds * double(frames) / double(stats.shadowSteps) : 0.0;
-    const bool extrapolated = settings.shadowLinearEvery > 1;
-    int points = 0;
-    for (int i = 0; i < world.bodyCount(); ++i) points = std::max(points, int(world.model(i).shell().size()));
-    std::printf("%-11s %9d %7d | %10.2f%s %9.2f %7.1fx | %11.1f %9.1f %7.1fx | %9.2f\n", row.label, points, frames,
-                linear, extrapolated ? "*" : " ", tree, tree > 0 ? linear / tree : 0.0, row.paperLinear, row.paperTree,
-                row.paperLinear / row.paperTree, stats.groundCcdSeconds);
-    csvRow("table4", row.label, "points", points);
+    const int shadowEvery = o.quick ? row.shadowEveryQuick : row.shadowEvery;
+    const Table4Run fresh = runTable4Scene(scene, frames, o, shadowEvery, false);
+    const Table4Run coherent = runTable4Scene(scene, frames, o, 0, true);
+    const double linear = fresh.linear;
+    const bool extrapolated = shadowEvery > 1;
+    std::printf("%-11s %9d %7d | %10.2f%s %9.2f %7.1fx | %9.2f %7.1fx | %11.1f %9.1f %7.1fx | %9.2f\n", row.label,
+                fresh.points, frames, linear, extrapolated ? "*" : " ", fresh.tree,
+                fresh.tree > 0 ? linear / fresh.tree : 0.0, coherent.tree,
+                coherent.tree > 0 ? linear / coherent.tree : 0.0, row.paperLinear, row.paperTree,
+                row.paperLinear / row.paperTree, fresh.ground);
+    csvRow("table4", row.label, "points", fresh.points);
     csvRow("table4", row.label, "frames", frames);
     csvRow("table4", row.label, "linear_seconds", linear);
-    csvRow("table4", row.label, "tree_seconds", tree);
-    csvRow("table4", row.label, "ground_seconds", stats.groundCcdSeconds);
-    csvRow("table4", row.label, "max_penetration_cells", world.maxPenetrationCells());
+    csvRow("table4", row.label, "tree_seconds", fresh.tree);
+    csvRow("table4", row.label, "coherent_tree_seconds", coherent.tree);
+    csvRow("table4", row.label, "ground_seconds", fresh.ground);
+    csvRow("table4", row.label, "max_penetration_cells", fresh.maxPenetrationCells);
+    csvRow("table4", row.label, "coherent_max_penetration_cells", coherent.maxPenetrationCells);
     csvRow("table4", row.label, "paper_linear_seconds", row.paperLinear);
     csvRow("table4", row.label, "paper_tree_seconds", row.paperTree);
   }
-  std::printf("* extrapolated from every %d-th step (%d with --quick). Fields: 128^3 (paper: 1024^3).\n",
-              rows[2].shadowEvery, rows[2].shadowEveryQuick);
+  std::printf(
+      "* extrapolated from every %d-th step (%d with --quick). Fields: 128^3 (paper: 1024^3).\n"
+      "coherent: the tree started from each pair's last front (same contacts); speedups are over linear.\n",
+      rows[2].shadowEvery, rows[2].shadowEveryQuick);
+  runPileCcd(o);
 }
 
 // Prints the trials; CSV items are "<name>@<timestep>" (or "<name>@k<stiffness>" for a stiffness walk).

@@ -46,6 +46,7 @@ struct SceneWorldSettings {
   std::optional<ForceTiming> forceTiming;  ///< overrides contact.force_timing
   std::optional<ContactSolver> solver;     ///< overrides contact.solver (solver mode)
   int shadowLinearEvery = 0;               ///< see SdfccdContactSettings::shadowLinearEvery
+  bool coherentCcd = true;                 ///< see SdfccdContactSettings::coherentCcd
   bool allowSleeping = true;               ///< false: bodies never deactivate (benchmarks time every frame)
   ProgressCallback buildProgress;          ///< fraction of the model builds done
 };

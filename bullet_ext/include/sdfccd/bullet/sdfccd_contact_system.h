@@ -110,6 +110,7 @@ struct SdfccdContactSettings {
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)
   bool useTree = true;                   ///< point tree (true) or point by point (the linear baseline)
+  bool coherentCcd = true;               ///< tree: start each pair and role's query from its last front (same contacts)
   OctreeMode octree = OctreeMode::Full;  ///< cell skipping in grid fields
   int maxManifoldPoints = 4;             ///< manifold points reported per pair (0..4)
   /// Bullet convex shapes (box, sphere, capsule) against our field: the spacing of the points sampled on

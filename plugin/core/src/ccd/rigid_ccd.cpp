@@ -3,6 +3,7 @@
 /// field type of field_interface.h (as FCL does: the public header declares, this file defines).
 #include "sdfccd/ccd/rigid_ccd.h"
 
+#include "ccd/rigid_ccd_coherent.h"
 #include "ccd/rigid_ccd_query.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
@@ -17,6 +18,20 @@ void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShe
   if (tree.nodeCount() == 0) return;
   const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
   query.run(outResult);
+}
+
+template <class Field>
+void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
+              const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult) {
+  if (settings.earliestOnly || settings.cullLipschitz != 0.0 || !settings.useTree) {
+    rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, outResult);
+    return;
+  }
+  outResult.clear();
+  if (tree.nodeCount() == 0) return;
+  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
+  detail::CoherentQuery<Field> coherent(query, tree, field, settings, sdfFromShellStart, sdfFromShellEnd, history);
+  coherent.run(outResult);
 }
 
 template <class Field>
@@ -38,6 +53,8 @@ bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node
 #define SDFCCD_INSTANTIATE_RIGID_CCD(Field)                                                                          \
   template void rigidCcd<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&, const RigidCcdSettings&, \
                                 RigidCcdResult&);                                                                    \
+  template void rigidCcd<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&, const RigidCcdSettings&, \
+                                RigidCcdCoherence&, RigidCcdResult&);                                                \
   template bool pointTreeNodeMayCollide<Field>(const PointTree&, const Field&, int, const Rigid&, const Rigid&,      \
                                                const RigidCcdSettings&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_RIGID_CCD)

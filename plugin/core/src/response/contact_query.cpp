@@ -31,8 +31,12 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
   ccd.threads = settings.threads;
   const double ccdStart = clocks.ccd ? clocks.ccd() : 0.0;
   // The discrete model looks at the end pose only: a zero-length motion lists the points inside there.
-  rigidCcd(shellTree, field, discrete ? outResult.sdfFromShellEnd : outResult.sdfFromShellStart,
-           outResult.sdfFromShellEnd, ccd, outResult.ccd);
+  const Rigid& shellStartInSdf = discrete ? outResult.sdfFromShellEnd : outResult.sdfFromShellStart;
+  if (settings.coherence) {
+    rigidCcd(shellTree, field, shellStartInSdf, outResult.sdfFromShellEnd, ccd, *settings.coherence, outResult.ccd);
+  } else {
+    rigidCcd(shellTree, field, shellStartInSdf, outResult.sdfFromShellEnd, ccd, outResult.ccd);
+  }
   if (clocks.ccd) outResult.ccdSeconds = clocks.ccd() - ccdStart;
 
   if (!settings.integratePenalty) return;

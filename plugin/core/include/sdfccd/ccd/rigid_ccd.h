@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sdfccd/ccd/rigid_ccd_coherence.h"
 #include "sdfccd/ccd/segment_ccd.h"
 #include "sdfccd/field/field_interface.h"
 #include "sdfccd/math_types.h"
@@ -77,6 +78,7 @@ struct PointContact {
 struct RigidCcdStats {
   std::int64_t nodesVisited = 0;    ///< tree nodes whose segment was tested
   std::int64_t segmentQueries = 0;  ///< segment queries against the field (inner nodes + leaves)
+  std::int64_t certified = 0;       ///< coherent query: front nodes ruled out by their certificate alone
 };
 
 /// Every contact of the step, sorted by point index.
@@ -96,6 +98,14 @@ struct RigidCcdResult {
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdResult& outResult);
+
+/// The same query started from the last query's front kept in `history` (rigid_ccd_coherence.h): the contacts,
+/// their order and firstFraction are the query above's bit for bit; only the stats differ. Runs serially (any
+/// `threads`). Queries the coherence does not cover run as above and leave `history` untouched: earliestOnly, a
+/// cullLipschitz override (whose culling may differ from the field's own bound) and the linear traversal.
+template <class Field>
+void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
+              const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult);
 
 /// The culling test of one tree node (what the traversal uses; exposed for tests): false only when no point
 /// below `node` can reach the level set sigma during the step. Never false for a node with a colliding point.

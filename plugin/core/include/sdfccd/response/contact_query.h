@@ -51,6 +51,9 @@ struct ContactQuerySettings {
   /// io: this pair and role's friction anchors, kept by the caller across steps (FrictionModel::Anchor); null:
   /// no anchor friction (the regularized law is used instead).
   FrictionAnchorTable* anchors = nullptr;
+  /// io: this pair and role's CCD history, kept by the caller across steps (rigid_ccd_coherence.h); null: the
+  /// fresh query. The contacts are the same either way.
+  RigidCcdCoherence* coherence = nullptr;
 };
 
 /// Optional clocks of the two phases (seconds; any monotonic clock, e.g. thread CPU time). Null: not timed.

@@ -1,0 +1,69 @@
+/// @file
+/// @brief RigidCcdCoherence: the history of one shell's every-contact queries against one field (one pair and
+/// role of a simulation), which lets the next query start from the last one's front instead of the tree's root.
+///
+/// @details The front is a cut of the point tree (every leaf lies below exactly one front node), in depth-first
+/// order: the nodes where the last query stopped (culled inner nodes and queried leaves). Each front node may
+/// carry a certificate taken at some earlier pose P_k of the shell in the field's frame:
+///   - Phi: phi(centre at P_k) = clearance, with the centre inside the field's box (or an unbounded field);
+///   - Box: the centre at P_k lies `clearance` outside the field's box (no contact is possible outside it).
+/// A point x below the node moves at most d = ||R - R_k||_F (|c| + rho) + |t - t_k| away from its position at
+/// P_k during the step (the segment's ends bound it; the Frobenius norm bounds the rotation's). So the node
+/// cannot touch when clearance - L (rho + d) > sigma (Phi; L the field's gradient bound) or clearance > rho + d
+/// (Box), with slack against rounding. Such a node is skipped with no field lookup; any other front node is
+/// first tried against a fresh certificate at the step's end pose (one lookup: enough when the step is shorter
+/// than the clearance), then tested as the fresh traversal tests it and expanded (descent), and the new front's
+/// complete sibling groups whose parent is certified with room to spare are replaced by the parent (ascent; the
+/// parent's centre is its first child's, so the first child's certificate is the parent's). Leaves run the same point
+/// query as the fresh traversal, so the contacts are the fresh query's bit for bit (tested), in the same order (by
+/// point).
+///
+/// Ownership: the caller keeps one per (shell, field) pair and role and passes it to every query of that pair;
+/// a query with another tree, field, sigma or gradient bound starts afresh. Not thread safe: one query at a time.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sdfccd/math_types.h"
+
+namespace sdfccd {
+
+class RigidCcdCoherence {
+ public:
+  /// Forgets the history: the next query starts at the root.
+  void reset() {
+    front.clear();
+    poses.clear();
+    tree = nullptr;
+    field = nullptr;
+  }
+  /// Front nodes after the last query (0 before the first).
+  std::size_t frontSize() const { return front.size(); }
+
+  // The state below belongs to the query (src/ccd/rigid_ccd_coherent.h); callers only keep the object.
+  enum class Kind : std::uint8_t { None, Phi, Box };
+  struct Entry {
+    int node = 0;
+    int pose = -1;  // index into `poses` (certified entries)
+    double clearance = 0.0;
+    double room = 0.0;  // how far below the centre (radius + motion) the certificate allows
+    Kind kind = Kind::None;
+  };
+  std::vector<Entry> front;
+  std::vector<Rigid> poses;             // sdfFromShell at each certificate's pose
+  std::vector<int> parent;              // per tree node (-1: root)
+  std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
+  const void* tree = nullptr;           // the key: a query with other inputs starts afresh
+  const void* field = nullptr;
+  int nodeCount = 0;
+  double sigma = 0.0;
+  double lipschitz = 0.0;
+  std::uint64_t queries = 0;        // coherent queries run (paces the ascent of kept nodes)
+  std::vector<Entry> scratchFront;  // reused buffers
+  std::vector<int> scratchStack;
+  std::vector<double> scratchRotation;
+  std::vector<double> scratchTranslation;
+};
+
+}  // namespace sdfccd

@@ -1,0 +1,231 @@
+/// @file
+/// @brief detail::runCoherent: the every-contact query started from the last query's front (see
+/// rigid_ccd_coherence.h). Private to the core: rigid_ccd.cpp instantiates it with RigidCcdQuery.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "ccd/rigid_ccd_query.h"
+#include "sdfccd/ccd/rigid_ccd_coherence.h"
+
+namespace sdfccd {
+namespace detail {
+
+/// Poses kept before the unused ones are dropped.
+constexpr std::size_t kCoherencePoses = 8;
+/// Front nodes kept from the last query try to ascend once every this many queries (nodes re-tested this
+/// query try at once): the check costs as much as the certificate's, and parents rarely qualify step to step.
+constexpr std::uint64_t kAscentPeriod = 8;
+
+/// Distance from `p` to the box (0 inside).
+inline double distanceToBox(const Vec3& p, const Box3& box) {
+  const Vec3 nearest = p.cwiseMax(box.min()).cwiseMin(box.max());
+  return (nearest - p).norm();
+}
+
+template <class Field>
+class CoherentQuery {
+ public:
+  CoherentQuery(const RigidCcdQuery<Field>& query, const PointTree& tree, const Field& field,
+                const RigidCcdSettings& settings, const Rigid& start, const Rigid& end, RigidCcdCoherence& cache)
+      : m_query(query),
+        m_tree(tree),
+        m_field(field),
+        m_settings(settings),
+        m_cache(cache),
+        m_segment(rigidCcdScratch().segment) {
+    m_bounds = fieldCullingBounds(field);
+    prepareCache(start, end);
+  }
+
+  void run(RigidCcdResult& out) {
+    std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
+    next.clear();
+    const bool ascend = m_cache.queries++ % kAscentPeriod == 0;
+    for (const RigidCcdCoherence::Entry& entry : m_cache.front) {
+      if (certified(entry, 1.0)) {
+        ++out.stats.certified;
+        emit(entry, next, ascend);
+      } else {
+        descend(entry.node, out, next);
+      }
+    }
+    m_cache.front.swap(next);
+    compactPoses();
+    std::sort(out.contacts.begin(), out.contacts.end(),
+              [](const PointContact& a, const PointContact& b) { return a.point < b.point; });
+    for (const auto& contact : out.contacts) out.firstFraction = std::min(out.firstFraction, contact.fraction);
+  }
+
+ private:
+  /// Keys the cache to this tree, field, sigma and bound; adds this step's end pose (new certificates' pose)
+  /// and each kept pose's largest distance to the step's two poses.
+  void prepareCache(const Rigid& start, const Rigid& end) {
+    RigidCcdCoherence& c = m_cache;
+    if (c.tree != &m_tree || c.field != &m_field || c.nodeCount != m_tree.nodeCount() || c.sigma != m_settings.sigma ||
+        c.lipschitz != m_bounds.lipschitz) {
+      c.reset();
+      c.tree = &m_tree;
+      c.field = &m_field;
+      c.nodeCount = m_tree.nodeCount();
+      c.sigma = m_settings.sigma;
+      c.lipschitz = m_bounds.lipschitz;
+      c.parent.assign(c.nodeCount, -1);
+      c.reachFromOrigin.resize(c.nodeCount);
+      for (int n = 0; n < c.nodeCount; ++n) {
+        c.reachFromOrigin[n] = m_tree.center(n).norm() + m_tree.radius(n);
+        for (int k = 0; k < m_tree.childCount(n); ++k) c.parent[m_tree.firstChild(n) + k] = n;
+      }
+      c.front.push_back({0, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None});
+    }
+    c.poses.push_back(end);
+    m_endPose = static_cast<int>(c.poses.size()) - 1;
+    m_rotation.resize(c.poses.size());
+    m_translation.resize(c.poses.size());
+    for (std::size_t k = 0; k < c.poses.size(); ++k) {
+      const Rigid& p = c.poses[k];
+      m_rotation[k] = std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm());
+      m_translation[k] =
+          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm());
+    }
+  }
+
+  /// Can the node's certificate rule out a contact during this step? `headroom` > 1 asks for room to spare
+  /// (ascent: a parent that would fail at once is not worth it).
+  bool certified(const RigidCcdCoherence::Entry& e, double headroom) const {
+    if (e.kind == RigidCcdCoherence::Kind::None) return false;
+    const double moved = m_rotation[e.pose] * m_cache.reachFromOrigin[e.node] + m_translation[e.pose];
+    return (m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth < e.room;
+  }
+
+  /// The distance the node's points may reach from its centre at the certificate's pose without touching
+  /// (`room` of the entry; the same for every node of that centre), with slack against rounding of the same
+  /// relative size as the traversal's, on the magnitudes involved.
+  double roomOf(const RigidCcdCoherence::Entry& e) const {
+    constexpr double eps = tolerance::kRelativeSlack;
+    if (e.kind == RigidCcdCoherence::Kind::Box) return e.clearance * (1.0 - eps);
+    const double margin = e.clearance - m_settings.sigma - eps * (std::abs(e.clearance) + std::abs(m_settings.sigma));
+    return margin / m_bounds.lipschitz * (1.0 - eps);
+  }
+
+  /// A certificate for `node` at this step's end pose (whether it is worth anything, certified() decides each
+  /// step; None only for a non-finite value).
+  RigidCcdCoherence::Entry certify(int node) const {
+    RigidCcdCoherence::Entry e{node, m_endPose, 0.0, 0.0, RigidCcdCoherence::Kind::None};
+    const Vec3 c1 = m_query.endOf(m_tree.center(node));
+    if (m_bounds.bounded && !m_bounds.box.contains(c1)) {
+      e.kind = RigidCcdCoherence::Kind::Box;
+      e.clearance = distanceToBox(c1, m_bounds.box);
+    } else {
+      e.kind = RigidCcdCoherence::Kind::Phi;
+      e.clearance = m_field.distance(c1);
+    }
+    if (!std::isfinite(e.clearance)) e.kind = RigidCcdCoherence::Kind::None;
+    e.room = roomOf(e);
+    return e;
+  }
+
+  /// The fresh traversal below `root` (depth first, so the new front stays in tree order): inner nodes by the
+  /// fresh culling test, leaves by the same point query.
+  void descend(int root, RigidCcdResult& out, std::vector<RigidCcdCoherence::Entry>& next) {
+    std::vector<int>& stack = m_cache.scratchStack;
+    stack.clear();
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const int node = stack.back();
+      stack.pop_back();
+      if (m_tree.isLeaf(node)) {
+        const int point = m_tree.point(node);
+        if (m_query.ignored(point)) {
+          emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);  // tested again when no longer ignored
+          continue;
+        }
+        ++out.stats.nodesVisited;
+        // A fresh certificate at this step's end pose rules the point out when its step is shorter than its
+        // clearance (one lookup instead of the segment walk; the same Lipschitz argument as a kept one).
+        const RigidCcdCoherence::Entry e = certify(node);
+        if (certified(e, 1.0)) {
+          emit(e, next);
+          continue;
+        }
+        const std::size_t before = out.contacts.size();
+        m_query.queryPoint(point, m_segment, out.contacts, out.stats);
+        if (out.contacts.size() > before) {
+          emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);
+        } else {
+          emit(e, next);
+        }
+        continue;
+      }
+      ++out.stats.nodesVisited;
+      const RigidCcdCoherence::Entry e = certify(node);  // as for a point: may spare the segment test
+      double first = 0.0;
+      if (certified(e, 1.0) || !m_query.nodeMayCollide(node, 0.0, m_segment, out.stats, first)) {
+        emit(e, next);
+        continue;
+      }
+      for (int c = m_tree.childCount(node) - 1; c >= 0; --c) stack.push_back(m_tree.firstChild(node) + c);
+    }
+  }
+
+  /// Appends `e` to the new front, then replaces complete certified sibling groups at its end by their parent
+  /// while the parent's certificate (its first child's) holds with room to spare.
+  void emit(const RigidCcdCoherence::Entry& e, std::vector<RigidCcdCoherence::Entry>& next, bool ascend = true) const {
+    next.push_back(e);
+    while (ascend) {
+      const int node = next.back().node;
+      const int parent = m_cache.parent[node];
+      if (parent < 0) return;
+      const int first = m_tree.firstChild(parent);
+      const int count = m_tree.childCount(parent);
+      if (node != first + count - 1 || next.size() < static_cast<std::size_t>(count)) return;
+      const std::size_t begin = next.size() - static_cast<std::size_t>(count);
+      for (int k = 0; k < count; ++k) {
+        const RigidCcdCoherence::Entry& sibling = next[begin + static_cast<std::size_t>(k)];
+        if (sibling.node != first + k || sibling.kind == RigidCcdCoherence::Kind::None) return;
+      }
+      if (m_tree.center(parent) != m_tree.center(first)) return;
+      RigidCcdCoherence::Entry up = next[begin];  // the parent's centre is its first child's
+      up.node = parent;
+      if (!certified(up, 2.0)) return;
+      next.resize(begin);
+      next.push_back(up);
+    }
+  }
+
+  /// Drops the poses no front entry refers to once there are many.
+  void compactPoses() {
+    RigidCcdCoherence& c = m_cache;
+    if (c.poses.size() < kCoherencePoses) return;
+    std::vector<int> remap(c.poses.size(), -1);
+    for (const auto& e : c.front) {
+      if (e.pose >= 0) remap[static_cast<std::size_t>(e.pose)] = 0;
+    }
+    std::vector<Rigid> kept;
+    for (std::size_t k = 0; k < c.poses.size(); ++k) {
+      if (remap[k] < 0) continue;
+      remap[k] = static_cast<int>(kept.size());
+      kept.push_back(c.poses[k]);
+    }
+    c.poses.swap(kept);
+    for (auto& e : c.front) {
+      if (e.pose >= 0) e.pose = remap[static_cast<std::size_t>(e.pose)];
+    }
+  }
+
+  const RigidCcdQuery<Field>& m_query;
+  const PointTree& m_tree;
+  const Field& m_field;
+  const RigidCcdSettings& m_settings;
+  RigidCcdCoherence& m_cache;
+  FieldCullingBounds m_bounds;
+  int m_endPose = -1;
+  std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
+  std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|
+  SegmentCcdResult& m_segment;
+};
+
+}  // namespace detail
+}  // namespace sdfccd
