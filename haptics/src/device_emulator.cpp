@@ -7,17 +7,9 @@
 #include <cmath>
 
 #include "sdfccd/error.h"
+#include "vector_limits.h"
 
 namespace sdfccd::haptics {
-
-namespace {
-
-Vec3 clampNorm(const Vec3& v, double limit) {
-  const double n = v.norm();
-  return n > limit ? Vec3(v * (limit / n)) : v;
-}
-
-}  // namespace
 
 DeviceEmulator::DeviceEmulator(const DeviceSettings& settings, UserScript script, const Rigid& worldFromDeviceStart)
     : m_settings(settings), m_script(std::move(script)) {

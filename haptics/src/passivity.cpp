@@ -6,15 +6,11 @@
 #include <cmath>
 
 #include "sdfccd/error.h"
+#include "vector_limits.h"
 
 namespace sdfccd::haptics {
 
 namespace {
-
-Vec3 clampNorm(const Vec3& v, double limit) {
-  const double n = v.norm();
-  return n > limit ? Vec3(v * (limit / n)) : v;
-}
 
 /// `next` moved towards from `last` by at most `maxStep` (0: unlimited); sets `limited` when it had to.
 Vec3 limitStep(const Vec3& last, const Vec3& next, double maxStep, bool& limited) {
