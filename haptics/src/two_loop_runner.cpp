@@ -95,19 +95,29 @@ TwoLoopResult TwoLoopRunner::runRealTime(const SimulationCycle& simulate, const 
       }
     });
   }
-  loop.start(
-      [&](const DeviceState& state) {
-        deviceState.publish(state);
-        // The simulation failed: this tick renders zero (the loop writes zero on a throw) and the loop ends.
-        if (simulationFailed.load(std::memory_order_acquire)) throw Error(simulationError);
-        const Vec6 w = named("haptic loop", [&] { return haptic(state); });
-        if (m_stop.load(std::memory_order_relaxed)) loop.requestStop();
-        return w;
-      },
-      m_settings.ticks, m_settings.loop);
+  // The simulation thread is joined on every path: a device loop that cannot start (bad loop options, a thread
+  // that cannot be created) throws here, and a joinable std::thread destroyed during unwinding would terminate.
+  const auto stopSimulation = [&] {
+    simulationDone.store(true, std::memory_order_release);
+    if (simulation.joinable()) simulation.join();
+  };
+  try {
+    loop.start(
+        [&](const DeviceState& state) {
+          deviceState.publish(state);
+          // The simulation failed: this tick renders zero (the loop writes zero on a throw) and the loop ends.
+          if (simulationFailed.load(std::memory_order_acquire)) throw Error(simulationError);
+          const Vec6 w = named("haptic loop", [&] { return haptic(state); });
+          if (m_stop.load(std::memory_order_relaxed)) loop.requestStop();
+          return w;
+        },
+        m_settings.ticks, m_settings.loop);
+  } catch (...) {
+    stopSimulation();
+    throw;
+  }
   loop.wait();
-  simulationDone.store(true, std::memory_order_release);
-  if (simulation.joinable()) simulation.join();
+  stopSimulation();
   result.timing = loop.stats();
   result.error = loop.error();
   if (result.error.empty() && simulationFailed.load()) {

@@ -5,6 +5,7 @@
 /// virtual time and in real time (short: the real-time cases run under TSan).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -175,6 +176,27 @@ TEST(TwoLoopRunner, RealTimeSurvivesAnExceptionInEitherLoop) {
     EXPECT_EQ(last.renderedWrench, Vec6::Zero());
     EXPECT_EQ(r.summary.realTimePriority, "off");  // never asked for in the tests
   }
+}
+
+TEST(TwoLoopRunner, ALoopThatCannotStartIsAnErrorNotATermination) {
+  // Real time with a simulation thread already running when the device loop refuses its options (priority outside
+  // 1..99): the runner joins the thread and rethrows; the test process survives (std::terminate would end it).
+  TrajectoryPlayer player(UserScript(recordedMotion(100)), 1000.0);
+  TwoLoopSettings settings;
+  settings.ticks = 10;
+  settings.realTime = true;
+  settings.loop.realTimePriority = true;
+  settings.loop.priority = 0;
+  TwoLoopRunner runner(player, settings);
+  std::atomic<std::int64_t> cycles{0};
+  EXPECT_THROW(runner.run(
+                   [&](const DeviceState&) {
+                     ++cycles;
+                     return false;
+                   },
+                   [](const DeviceState&) { return Vec6::Zero().eval(); }),
+               Error);
+  EXPECT_TRUE(player.wrenches().empty());
 }
 
 TEST(TwoLoopRunner, RunsAnyDeviceAndStopsOnRequest) {
