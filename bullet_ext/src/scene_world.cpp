@@ -168,7 +168,12 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   if (settings.timeOfImpactClamp) m_scene.contact.timeOfImpactClamp = *settings.timeOfImpactClamp;
   if (settings.useTree) m_scene.contact.useTree = *settings.useTree;
   if (settings.forceTiming) m_scene.contact.forceTiming = *settings.forceTiming;
-  if (settings.solver) m_scene.contact.solver = *settings.solver;
+  if (settings.solver) {
+    // As the scene reader refuses contact.solver in penalty mode: penalty mode answers its contacts itself.
+    if (m_scene.contact.mode != SdfccdContactMode::Solver)
+      throw Error("solver: a constraint solver applies only in solver mode (this scene's contact.mode is penalty)");
+    m_scene.contact.solver = *settings.solver;
+  }
   checkSceneState(m_scene);
 
   // Models: one per distinct mesh + parameters.

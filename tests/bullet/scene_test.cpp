@@ -53,5 +53,20 @@ TEST(Scene, DeterministicResultHash) {
   EXPECT_EQ(hashes[0], hashes[1]);
 }
 
+// A constraint solver asked for in C++ where the scene runs penalty mode is refused, as the scene key is.
+TEST(Scene, SolverOverrideInPenaltyModeIsRefused) {
+  SceneWorldSettings settings;
+  settings.solver = ContactSolver::Mlcp;
+  const Scene penalty = test::sceneFromText(withBody("\"contact\": { \"mode\": \"penalty\" }"));
+  try {
+    SceneWorld world(penalty, settings);
+    FAIL() << "penalty mode accepted a constraint solver";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("solver mode"), std::string::npos) << e.what();
+  }
+  const Scene solver = test::sceneFromText(withBody("\"contact\": { \"mode\": \"solver\" }"));
+  EXPECT_NO_THROW(SceneWorld(solver, settings));
+}
+
 }  // namespace
 }  // namespace sdfccd
