@@ -17,6 +17,35 @@ void SdfccdContactSystem::setBodyContact(const btCollisionObject* body, const Sd
   if (contact.dampingRatio && !(*contact.dampingRatio >= 0.0 && *contact.dampingRatio <= 2.0)) {
     throw Error("setBodyContact: dampingRatio must be in [0, 2]");
   }
+  // An override replaces the world's value of the same law; a value of another law would be combined with a
+  // quantity of different units (or silently ignored by the law the pair runs), so it is refused.
+  const PenaltySettings& world = m_settings.penalty;
+  const bool areaLaw = world.stiffnessPerArea > 0.0;
+  if (contact.stiffness && areaLaw) {
+    throw Error(
+        "setBodyContact: stiffness (per point) does not apply: the world's stiffness is per unit of shell "
+        "area (set stiffnessPerArea)");
+  }
+  if (contact.stiffnessPerArea && !areaLaw) {
+    throw Error("setBodyContact: stiffnessPerArea does not apply: the world's stiffness is per point (set stiffness)");
+  }
+  if (contact.stiffnessPerArea && !(*contact.stiffnessPerArea > 0.0)) {
+    throw Error("setBodyContact: stiffnessPerArea must be > 0 (0 would be the per-point law)");
+  }
+  if (world.dampingRatioFromRestitution && (contact.damping || contact.dampingRatio)) {
+    throw Error(
+        "setBodyContact: damping does not apply: the world derives the damping ratio from the bodies' "
+        "restitution (set the btRigidBody's restitution)");
+  }
+  const bool ratioLaw = world.dampingRatio >= 0.0;
+  if (contact.damping && ratioLaw) {
+    throw Error(
+        "setBodyContact: damping (per point) does not apply: the world's damping is a damping ratio (set "
+        "dampingRatio)");
+  }
+  if (contact.dampingRatio && !ratioLaw) {
+    throw Error("setBodyContact: dampingRatio does not apply: the world's damping is per point (set damping)");
+  }
   m_bodyContacts[body] = contact;
 }
 
@@ -45,11 +74,8 @@ PenaltySettings SdfccdContactSystem::combinedPenalty(const btCollisionObject* a,
   p.stiffnessPerArea =
       series(pick(x.stiffnessPerArea, p.stiffnessPerArea), pick(y.stiffnessPerArea, p.stiffnessPerArea));
   p.damping = mean(pick(x.damping, p.damping), pick(y.damping, p.damping));
-  if (x.dampingRatio || y.dampingRatio) {
-    const double world = p.dampingRatio >= 0.0 ? p.dampingRatio : 0.0;
-    p.dampingRatio = mean(pick(x.dampingRatio, world), pick(y.dampingRatio, world));
-    p.dampingRatioFromRestitution = false;  // an explicit ratio replaces the restitution-derived one
-  }
+  // setBodyContact admits a ratio only where the world has an explicit one (never derived from restitution).
+  p.dampingRatio = mean(pick(x.dampingRatio, p.dampingRatio), pick(y.dampingRatio, p.dampingRatio));
   return p;
 }
 

@@ -108,5 +108,42 @@ TEST(BodyContact, BadValuesAreRefused) {
   EXPECT_NO_THROW(system.setBodyContact(&body, {}));
 }
 
+// An override of another law than the world's is refused (its units differ, or the pair's law would ignore it).
+TEST(BodyContact, OverridesOfAnotherLawAreRefused) {
+  btCollisionObject body;
+  auto refused = [&](const SdfccdContactSettings& settings, const SdfccdBodyContact& contact) {
+    SdfccdContactSystem system(settings);
+    try {
+      system.setBodyContact(&body, contact);
+    } catch (const Error&) {
+      return true;
+    }
+    return false;
+  };
+  SdfccdBodyContact perPoint, perArea, damping, ratio;
+  perPoint.stiffness = 1000.0;
+  perArea.stiffnessPerArea = 1.0e6;
+  damping.damping = 1.0;
+  ratio.dampingRatio = 0.5;
+  const SdfccdContactSettings defaults;  // per-area stiffness, ratio from restitution
+  EXPECT_TRUE(refused(defaults, perPoint));
+  EXPECT_FALSE(refused(defaults, perArea));
+  EXPECT_TRUE(refused(defaults, damping));
+  EXPECT_TRUE(refused(defaults, ratio));
+  SdfccdContactSettings paper;  // the paper's law: per point, per-point damping
+  paper.penalty = PenaltySettings{};
+  EXPECT_FALSE(refused(paper, perPoint));
+  EXPECT_TRUE(refused(paper, perArea));
+  EXPECT_FALSE(refused(paper, damping));
+  EXPECT_TRUE(refused(paper, ratio));
+  SdfccdContactSettings explicitRatio = defaults;
+  explicitRatio.penalty.dampingRatioFromRestitution = false;
+  EXPECT_FALSE(refused(explicitRatio, ratio));
+  EXPECT_TRUE(refused(explicitRatio, damping));
+  SdfccdBodyContact zeroArea;
+  zeroArea.stiffnessPerArea = 0.0;
+  EXPECT_TRUE(refused(defaults, zeroArea));
+}
+
 }  // namespace body_contact_test
 }  // namespace sdfccd

@@ -129,12 +129,15 @@ struct SdfccdContactSettings {
 /// world's): stiffnesses like two springs in series, normalised so that equal values give that value
 /// (2 a b / (a + b)); damping ratios and per-point damping by their mean. A pair where neither body has an
 /// override uses the world's settings unchanged. The shell's density is the model's (BodyModelSettings::points).
+/// An override must be of the world's law (setBodyContact refuses the others with one line): `stiffnessPerArea`
+/// in a per-area world (the default), `stiffness` in a per-point one; `dampingRatio` where the world has an
+/// explicit ratio, `damping` where it has per-point damping; where the world derives the ratio from restitution
+/// (the default), a body's damping is its btRigidBody's restitution, combined the Bullet way.
 struct SdfccdBodyContact {
   std::optional<double> stiffness;         ///< N/m per point (PenaltySettings::stiffness), >= 0
   std::optional<double> stiffnessPerArea;  ///< N/m^3 (PenaltySettings::stiffnessPerArea; 0: per-point law), >= 0
   std::optional<double> damping;           ///< N s/m per point (PenaltySettings::damping), >= 0
-  std::optional<double> dampingRatio;      ///< zeta in [0, 2] (PenaltySettings::dampingRatio); replaces the
-                                           ///< restitution-derived ratio for the pair
+  std::optional<double> dampingRatio;      ///< zeta in [0, 2] (PenaltySettings::dampingRatio)
 };
 
 /// One (shell body, field body) role of a pair over the last step: the contact report.
