@@ -305,31 +305,47 @@ std::string bunnyBody(const std::string& name, const Vec3& position) {
   return j.str();
 }
 
-/// A bunny dropped from y = 0.2 m onto the ground with sleeping on (the penalty suite's scene): its kinetic energy and
-/// activation state at `seconds`.
-void expectRestingBunnySleeps(double timestep, double seconds) {
-  auto world = makeWorld(sceneText({bunnyBody("bunny", Vec3(0, 0.2, 0))}, Vec3(0, -kG, 0), true), timestep);
-  double asleepAt = -1;
+/// A bunny dropped from y = 0.2 m onto the ground (the penalty suite's scene), run to `seconds`: its kinetic energy
+/// at the end under 1e-6 J and, with sleeping on, asleep (the penalty suite's assertions). Bullet zeroes a body's
+/// velocity when it falls asleep, so the energy on the last awake step is printed too: Bullet's thresholds
+/// (0.8 m/s, 1 rad/s for 2 s) put the bunny to sleep while it still rocks slightly (1.3e-6 J at 1/240 s, 1.4e-3 J
+/// at 1/60 s).
+void expectRestingBunnyComesToRest(double timestep, double seconds, bool sleeping) {
+  auto world = makeWorld(sceneText({bunnyBody("bunny", Vec3(0, 0.2, 0))}, Vec3(0, -kG, 0), sleeping), timestep);
+  double asleepAt = -1, lastAwakeEnergy = 0;
   while (world->time() < seconds - 1e-9) {
     world->step();
     const bool asleep = world->body(0).getActivationState() == ISLAND_SLEEPING;
     if (asleep && asleepAt < 0) asleepAt = world->time();
-    if (!asleep) asleepAt = -1;
+    if (!asleep) {
+      asleepAt = -1;
+      lastAwakeEnergy = world->kineticEnergy();
+    }
   }
-  const double energy = world->kineticEnergy();
-  std::printf("  measured resting bunny (step %.5f s) at %.1f s: kinetic energy %.3g J, asleep since %.3f s, y %.4f\n",
-              timestep, seconds, energy, asleepAt, world->bodyState(0).position.y());
+  std::printf(
+      "  measured resting bunny (step %.5f s, sleeping %d) at %.1f s: kinetic energy %.3g J, on the last awake step "
+      "%.3g J, asleep since %.3f s, y %.4f\n",
+      timestep, int(sleeping), seconds, world->kineticEnergy(), lastAwakeEnergy, asleepAt,
+      world->bodyState(0).position.y());
   EXPECT_FALSE(world->hasNonFinite());
-  EXPECT_LT(energy, 1e-6);
-  EXPECT_EQ(world->body(0).getActivationState(), ISLAND_SLEEPING);
+  EXPECT_LT(world->kineticEnergy(), 1e-6);
+  if (sleeping) EXPECT_EQ(world->body(0).getActivationState(), ISLAND_SLEEPING);
 }
 
 TEST(SolverTextbook, RestingBunnyComesToRestAndSleepsShort) {
-  expectRestingBunnySleeps(kStep, 10.0);
+  expectRestingBunnyComesToRest(kStep, 10.0, true);
+}
+
+// Disabled: without sleeping the bunny never comes to rest in solver mode (the scene has no damping effect; the
+// penalty suite's has). It rocks on its base at up to 0.06 rad/s about x with a period of about 1.5 s; between
+// t = 1 s and 10 s its kinetic energy swings between 1e-8 and 1.3e-5 J, with a 1.3e-4 J kick at 9.5 s, and is
+// 1.01e-6 J at 10 s. Sleeping (the case above) is what brings it to rest.
+TEST(SolverTextbook, DISABLED_RestingBunnyComesToRestWithoutSleeping) {
+  expectRestingBunnyComesToRest(kStep, 10.0, false);
 }
 
 TEST(SolverTextbook, RestingBunnyComesToRestAndSleepsAtBulletsDefaultStep) {
-  expectRestingBunnySleeps(1.0 / 60.0, 10.0);
+  expectRestingBunnyComesToRest(1.0 / 60.0, 10.0, true);
 }
 
 /// A 20 cm kinematic box at 1 m/s along x pushes a resting bunny ahead of it for 0.5 s (the penalty suite's scene):
@@ -372,6 +388,10 @@ TEST(SolverTextbook, KinematicBoxPushesABunnyShort) {
   expectKinematicBoxPushesABunny(kStep);
 }
 
+// Disabled: at 1/60 s the pushed bunny yaws (up to 4 rad/s about y, growing over the push, where at 1/240 s it
+// settles below 0.3 rad/s), so its centre trails the box face: mean speed over the last 0.2 s 0.846 m/s (last step
+// 0.782, fastest 1.056), the centre 5.3 cm ahead of the face against 7.7 cm at 1/240 s. Depth stays 0.335 cells
+// and the bunny stays ahead of the box; only the speed criterion fails.
 TEST(SolverTextbook, DISABLED_KinematicBoxPushesABunnyAtBulletsDefaultStep) {
   expectKinematicBoxPushesABunny(1.0 / 60.0);
 }
