@@ -62,6 +62,7 @@ inline std::string sceneText(const std::vector<std::string>& bodies, const Vec3&
 inline std::unique_ptr<SceneWorld> makeWorld(const std::string& text, double timestep = kStep) {
   SceneWorldSettings settings;
   settings.timestep = timestep;
+  settings.cacheDir = "textbook-model-cache";  // the bunny's field and shell (boxes are built, not cached)
   auto world = std::make_unique<SceneWorld>(test::sceneFromText(text), settings);
   btCollisionObject* ground = world->world().getCollisionObjectArray()[0];
   ground->setFriction(1.0);
