@@ -284,7 +284,9 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
         respond(role, *m_convexShapes->field(static_cast<const btConvexShape*>(fieldShape)), shellCell);
       }
     } else {  // a triangle mesh or terrain: the triangles near the shell's motion
-      const double reach = std::max({m_settings.penalty.sigma, m_settings.maxSpeculativeMargin, 0.0}) + shellCell;
+      // The field sits the mesh's margin off its triangles (meshTrianglesInBox): gather that much further too.
+      const double reach = std::max({m_settings.penalty.sigma, m_settings.maxSpeculativeMargin, 0.0}) + shellCell +
+                           double(fieldShape->getMargin());
       const std::optional<TriangleSetField> mesh = meshFieldNear(role, shellShape, fieldShape, reach);
       if (mesh) respond(role, *mesh, shellCell);
     }
