@@ -135,6 +135,7 @@ FrictionAnchorTable* SdfccdContactSystem::anchorTable(const btPersistentManifold
   if (!slot) slot = std::make_unique<AnchorSlot>();
   if (slot->shellObject != shell || slot->fieldObject != field || slot->lastStep + 1 < m_stepCounter) {
     slot->table.clear();  // another pair reuses the manifold, or the pair was not dispatched (asleep)
+    slot->coherence.reset();
     slot->shellObject = shell;
     slot->fieldObject = field;
   }
@@ -241,15 +242,16 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (!closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor) {
       role.anchors = anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
     }
-    if (!closestPointsOnly && m_settings.coherentCcd) {  // after anchorTable(), which reads lastStep
-      std::unique_ptr<AnchorSlot>& slot = m_anchorSlots[{manifold, roleIndex}];
-      if (!slot) slot = std::make_unique<AnchorSlot>();
-      slot->lastStep = m_stepCounter;
-      role.coherence = &slot->coherence;
-    }
-    ++roleIndex;
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
+    // The CCD history only for our shell tree against our grid field: both persistent (owned by the shapes'
+    // BodyModels) and keyed by instance id. Other shells and fields are per-step objects: no history.
+    if (!closestPointsOnly && m_settings.coherentCcd && isSdfccdShape(shellShape) && isSdfccdShape(fieldShape)) {
+      // anchorTable() keeps the slot: it forgets table and history when another pair reuses the manifold.
+      anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
+      role.coherence = &m_anchorSlots[{manifold, roleIndex}]->coherence;
+    }
+    ++roleIndex;
     if (isSdfccdShape(fieldShape)) {
       const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
@@ -282,7 +284,9 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
         respond(role, *m_convexShapes->field(static_cast<const btConvexShape*>(fieldShape)), shellCell);
       }
     } else {  // a triangle mesh or terrain: the triangles near the shell's motion
-      const double reach = std::max({m_settings.penalty.sigma, m_settings.maxSpeculativeMargin, 0.0}) + shellCell;
+      // The field sits the mesh's margin off its triangles (meshTrianglesInBox): gather that much further too.
+      const double reach = std::max({m_settings.penalty.sigma, m_settings.maxSpeculativeMargin, 0.0}) + shellCell +
+                           double(fieldShape->getMargin());
       const std::optional<TriangleSetField> mesh = meshFieldNear(role, shellShape, fieldShape, reach);
       if (mesh) respond(role, *mesh, shellCell);
     }

@@ -6,7 +6,9 @@
 /// dispatcher has no slot that would own anything. Dropping the returned pointer was a use-after-free on the
 /// first step, so a process-wide table keyed by the dispatcher owns the system now: the registration, not the
 /// caller, decides its lifetime. The entry goes when the same dispatcher is registered again (a new world at the
-/// old one's address, or a second registration) or when releaseSdfccdAlgorithms() undoes the registration.
+/// old one's address, or a second registration through the world overload, which frees the pair algorithms
+/// first) or when releaseSdfccdAlgorithms() undoes the registration. The dispatcher overload refuses a dispatcher
+/// whose registration is still live: it cannot reach the pairs whose algorithms point at the old system.
 #include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcherMt.h>
@@ -28,7 +30,21 @@ namespace {
 struct Registration {
   std::shared_ptr<SdfccdContactSystem> system;
   btDiscreteDynamicsWorld* world = nullptr;  // the world it was added to as an action (the world overload)
+  // The dispatcher's entry for our pair just after registering: still there means the registration is live (a
+  // new dispatcher at a freed one's address has its configuration's entries instead).
+  const btCollisionAlgorithmCreateFunc* ourEntry = nullptr;
 };
+
+/// The dispatcher's create function of (our type, our type) for contacts. Bullet has no getter: the member is
+/// protected, and a pointer to it taken through a derived class may be applied to any dispatcher.
+const btCollisionAlgorithmCreateFunc* ourPairEntry(const btCollisionDispatcher& dispatcher) {
+  struct Peek : btCollisionDispatcher {
+    static const btCollisionAlgorithmCreateFunc* entry(const btCollisionDispatcher& d) {
+      return (d.*(&Peek::m_doubleDispatchContactPoints))[CUSTOM_CONCAVE_SHAPE_TYPE][CUSTOM_CONCAVE_SHAPE_TYPE];
+    }
+  };
+  return Peek::entry(dispatcher);
+}
 
 /// The owners of registered systems, by dispatcher.
 struct RegistrationTable {
@@ -50,11 +66,12 @@ Registration store(const btCollisionDispatcher* dispatcher, Registration registr
   return previous;
 }
 
-/// Frees every pair algorithm of ours in a pair cache (Bullet creates a new one on the pair's next step).
-struct ForgetOurAlgorithms : btOverlapCallback {
-  explicit ForgetOurAlgorithms(btDispatcher* dispatcher) : m_dispatcher(dispatcher) {}
+/// Frees every pair algorithm of a pair cache (Bullet creates a new one on the pair's next step). Not only ours:
+/// Bullet's compound algorithms hold child algorithms of ours, which point at the system being replaced.
+struct ForgetPairAlgorithms : btOverlapCallback {
+  explicit ForgetPairAlgorithms(btDispatcher* dispatcher) : m_dispatcher(dispatcher) {}
   bool processOverlap(btBroadphasePair& pair) override {
-    if (pair.m_algorithm != nullptr && dynamic_cast<SdfccdCollisionAlgorithm*>(pair.m_algorithm) != nullptr) {
+    if (pair.m_algorithm != nullptr) {
       pair.m_algorithm->~btCollisionAlgorithm();
       m_dispatcher->freeCollisionAlgorithm(pair.m_algorithm);
       pair.m_algorithm = nullptr;
@@ -63,6 +80,19 @@ struct ForgetOurAlgorithms : btOverlapCallback {
   }
   btDispatcher* m_dispatcher;
 };
+
+/// Throws when `dispatcher` holds a live registration: replacing it would free the system under the pair
+/// algorithms already created (only the world overload can find and free those first).
+void refuseLiveRegistration(const btCollisionDispatcher* dispatcher) {
+  RegistrationTable& table = registrations();
+  const std::lock_guard<std::mutex> lock(table.mutex);
+  const auto found = table.entries.find(dispatcher);
+  if (found != table.entries.end() && found->second.ourEntry == ourPairEntry(*dispatcher)) {
+    throw Error(
+        "registerSdfccdAlgorithms: this btCollisionDispatcher is already registered (register once, or use the "
+        "world overload, which replaces the registration)");
+  }
+}
 
 /// Registers a new system with `dispatcher`, owned by the table; `world` (may be null) gets it as an action.
 /// A previous registration of the same dispatcher is released: its world pointer is only trusted when it is
@@ -77,11 +107,13 @@ std::shared_ptr<SdfccdContactSystem> registerOwned(btCollisionDispatcher* dispat
   auto system = std::make_shared<SdfccdContactSystem>(settings);
   if (world != nullptr) {
     // A second registration on a live world: the first system's pair algorithms and action go first.
-    ForgetOurAlgorithms forget(dispatcher);
+    ForgetPairAlgorithms forget(dispatcher);
     world->getPairCache()->processAllOverlappingPairs(&forget, dispatcher);
+  } else {
+    refuseLiveRegistration(dispatcher);
   }
   system->registerWith(*dispatcher);
-  Registration previous = store(dispatcher, Registration{system, world});
+  Registration previous = store(dispatcher, Registration{system, world, ourPairEntry(*dispatcher)});
   if (world != nullptr && previous.world == world) world->removeAction(previous.system.get());
   if (world != nullptr) world->addAction(system.get());
   return system;
@@ -123,7 +155,7 @@ void releaseSdfccdAlgorithms(btDiscreteDynamicsWorld* world) {
     table.entries.erase(found);
   }
   world->removeAction(released.system.get());
-  ForgetOurAlgorithms forget(dispatcher);
+  ForgetPairAlgorithms forget(dispatcher);
   world->getPairCache()->processAllOverlappingPairs(&forget, dispatcher);
   // No entry may keep pointing at the system's create functions: btEmptyAlgorithm's (one, never freed). These
   // are the entries SdfccdContactSystem::registerWith sets (every pair involving our type, both orders, both

@@ -9,8 +9,10 @@
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <vector>
 
+#include "bullet_test_util.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
@@ -185,6 +187,66 @@ TEST(Registration, RegisteringTwiceReplacesTheFirst) {
   releaseSdfccdAlgorithms(&world);
   world.removeRigidBody(&ball);
   world.removeRigidBody(&ground);
+}
+
+// Our sphere as a compound's child resting on the bunny: Bullet's compound algorithm holds a child algorithm of
+// ours. Releasing and registering again must free it with the rest (else it keeps calling the first system: a
+// use-after-free once that system is gone; held here, so the test sees which system serves the child).
+TEST(Registration, CompoundChildAlgorithmsFollowReleaseAndReregistration) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  world.setGravity(btVector3(0, -9.81f, 0));
+  std::shared_ptr<SdfccdContactSystem> first = registerSdfccdAlgorithms(&world);
+  SdfccdShape bunnyShape(test::buildTestBunny(2000));
+  btRigidBody bunny(0, nullptr, &bunnyShape);
+  world.addRigidBody(&bunny);
+  SdfccdShape child(smallSphereModel());
+  btCompoundShape compound;
+  compound.addChildShape(btTransform::getIdentity(), &child);
+  btRigidBody ball(1, nullptr, &compound, btVector3(0.004f, 0.004f, 0.004f));
+  ball.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.35f, 0)));
+  world.addRigidBody(&ball);
+  for (int i = 0; i < 120; ++i) world.stepSimulation(1.0f / 240, 0);
+  const std::int64_t firstQueries = first->statistics().ccdQueries;
+  ASSERT_GT(firstQueries, 0);  // the child pair met the bunny
+  const btTransform resting = ball.getWorldTransform();
+  auto putBack = [&] {  // on the bunny again (it falls through while nothing is registered)
+    ball.setWorldTransform(resting);
+    ball.setLinearVelocity(btVector3(0, 0, 0));
+    ball.setAngularVelocity(btVector3(0, 0, 0));
+  };
+  releaseSdfccdAlgorithms(&world);
+  for (int i = 0; i < 5; ++i) world.stepSimulation(1.0f / 240, 0);
+  EXPECT_EQ(first->statistics().ccdQueries, firstQueries) << "a child algorithm outlived the release";
+  putBack();
+  auto second = registerSdfccdAlgorithms(&world);
+  for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
+  EXPECT_EQ(first->statistics().ccdQueries, firstQueries) << "a child algorithm outlived the re-registration";
+  EXPECT_GT(second->statistics().ccdQueries, 0);
+  first.reset();                                  // the first system goes: stepping on must not reach it (ASan)
+  auto third = registerSdfccdAlgorithms(&world);  // a live registration replaced through the world overload
+  for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
+  EXPECT_GT(third->statistics().ccdQueries, 0);
+  releaseSdfccdAlgorithms(&world);
+  world.removeRigidBody(&ball);
+  world.removeRigidBody(&bunny);
+}
+
+// The dispatcher overload cannot reach the pairs whose algorithms point at a live registration's system:
+// registering the same dispatcher again is refused; a new dispatcher at a freed one's address is not.
+TEST(Registration, DispatcherRegisteredTwiceIsRefused) {
+  btDefaultCollisionConfiguration configuration;
+  std::optional<btCollisionDispatcher> dispatcher;
+  dispatcher.emplace(&configuration);
+  auto system = registerSdfccdAlgorithms(&*dispatcher);
+  test::expectOneLineError([&] { registerSdfccdAlgorithms(&*dispatcher); }, "already registered");
+  EXPECT_EQ(system.use_count(), 2);  // still the registration's
+  dispatcher.reset();
+  dispatcher.emplace(&configuration);  // the same address, a fresh dispatcher
+  EXPECT_NO_THROW(registerSdfccdAlgorithms(&*dispatcher));
 }
 
 // Bullet's multi-threaded world and dispatcher are refused with a clear error.

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -191,6 +192,49 @@ TEST(RigidCcdCoherence, AnotherTreeOrFieldStartsAfresh) {
     const Rigid a = test::randomPose(c.grid.grid().box(), rng);
     coherentStep(c.tree, c.grid, a, test::shortStepFrom(a, a), s, history, "swap " + std::to_string(step), &contacts);
     coherentStep(one.tree, two.grid, a, a, s, history, "mixed " + std::to_string(step), &contacts);
+  }
+  EXPECT_GT(contacts, 0);
+}
+
+/// The grid's values lowered by `drop` (everything `drop` deeper; the same gradients, so the same bound).
+std::shared_ptr<const SdfGrid> loweredGrid(const SdfGrid& grid, float drop) {
+  std::vector<float> values = grid.values();
+  for (float& v : values) v -= drop;
+  return std::make_shared<const SdfGrid>(grid.nodeCounts(), grid.origin(), grid.spacing(), std::move(values));
+}
+
+TEST(RigidCcdCoherence, AnotherFieldOrTreeAtTheSameAddressStartsAfresh) {
+  // A per-step local field (or a rebuilt tree) lands at the freed one's address: the history must not take
+  // the old object's certificates for the new one's. The lowered field touches where the first one certified
+  // clearance, with the same node count, sigma and gradient bound (what the cache used to key on besides
+  // the address).
+  std::mt19937 rng(31);
+  const test::RandomGridCase c = test::randomGridCase(23, 0, rng);
+  const std::shared_ptr<const SdfGrid> high = c.grid.gridPtr();
+  const std::shared_ptr<const SdfGrid> low = loweredGrid(*high, 0.3f);
+  const RigidCcdSettings s;
+  RigidCcdCoherence history;
+  std::optional<GridField> field;
+  std::optional<PointTree> tree;
+  int contacts = 0;
+  for (int step = 0; step < 8; ++step) {
+    field.reset();
+    field.emplace(step % 2 == 0 ? high : low);
+    const Rigid a = test::randomPose(high->box(), rng);
+    for (int still = 0; still < 3; ++still) {  // the same pose again: every certificate holds for the same field
+      coherentStep(c.tree, *field, a, a, s, history, "field " + std::to_string(step), &contacts);
+    }
+  }
+  PointTreeSettings binary;  // the case's tree settings: the same node count for every tree of 700 points
+  binary.branching = 2;
+  for (int step = 0; step < 8; ++step) {
+    tree.reset();
+    tree.emplace(step % 2 == 0 ? c.tree.shell() : test::randomShell(700, 0.6, rng), binary);
+    ASSERT_EQ(tree->nodeCount(), c.tree.nodeCount());
+    const Rigid a = test::randomPose(high->box(), rng);
+    for (int still = 0; still < 3; ++still) {
+      coherentStep(*tree, *field, a, a, s, history, "tree " + std::to_string(step), &contacts);
+    }
   }
   EXPECT_GT(contacts, 0);
 }

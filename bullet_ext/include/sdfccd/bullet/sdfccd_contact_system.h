@@ -330,8 +330,8 @@ class SdfccdContactSystem : public btActionInterface {
 /// dispatcher holds a std::shared_ptr), so the returned pointer may be dropped: the system lives until the same
 /// dispatcher is registered again or releaseSdfccdAlgorithms() is called. A program that creates many worlds
 /// calls releaseSdfccdAlgorithms(&world) before destroying each (else each keeps its system's memory until its
-/// dispatcher's address is registered again). Register before adding objects: registering twice on a dispatcher
-/// whose pairs already exist releases the first system under their algorithms.
+/// dispatcher's address is registered again). Registering a dispatcher again through the dispatcher overload while
+/// its registration is live is refused (sdfccd::Error); the world overload replaces it (its pair algorithms go).
 ///
 /// Threads: the narrowphase must run on one thread. A btDiscreteDynamicsWorldMt or a btCollisionDispatcherMt is
 /// refused (sdfccd::Error); use btDiscreteDynamicsWorld with btCollisionDispatcher.

@@ -3,6 +3,9 @@
 /// field type of field_interface.h (as FCL does: the public header declares, this file defines).
 #include "sdfccd/ccd/rigid_ccd.h"
 
+#include <type_traits>
+#include <utility>
+
 #include "ccd/rigid_ccd_coherent.h"
 #include "ccd/rigid_ccd_query.h"
 #include "sdfccd/field/analytic_fields.h"
@@ -10,6 +13,15 @@
 #include "sdfccd/field/polytope_fields.h"
 
 namespace sdfccd {
+namespace {
+
+/// Does the field carry an instance id (instance_id.h)? Only such fields can key a coherence history safely.
+template <class Field, class = void>
+struct HasInstanceId : std::false_type {};
+template <class Field>
+struct HasInstanceId<Field, std::void_t<decltype(std::declval<const Field&>().instanceId())>> : std::true_type {};
+
+}  // namespace
 
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
@@ -23,15 +35,19 @@ void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShe
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult) {
-  if (settings.earliestOnly || settings.cullLipschitz != 0.0 || !settings.useTree) {
+  if constexpr (!HasInstanceId<Field>::value) {
+    // No identity to key the history by (an address may be reused by another field): fresh, and forget.
+    history.reset();
     rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, outResult);
-    return;
+  } else if (settings.earliestOnly || settings.cullLipschitz != 0.0 || !settings.useTree) {
+    rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, outResult);
+  } else {
+    outResult.clear();
+    if (tree.nodeCount() == 0) return;
+    const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
+    detail::CoherentQuery<Field> coherent(query, tree, field, settings, sdfFromShellStart, sdfFromShellEnd, history);
+    coherent.run(outResult);
   }
-  outResult.clear();
-  if (tree.nodeCount() == 0) return;
-  const detail::RigidCcdQuery<Field> query(tree, field, sdfFromShellStart, sdfFromShellEnd, settings);
-  detail::CoherentQuery<Field> coherent(query, tree, field, settings, sdfFromShellStart, sdfFromShellEnd, history);
-  coherent.run(outResult);
 }
 
 template <class Field>

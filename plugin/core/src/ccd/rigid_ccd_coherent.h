@@ -64,11 +64,11 @@ class CoherentQuery {
   /// and each kept pose's largest distance to the step's two poses.
   void prepareCache(const Rigid& start, const Rigid& end) {
     RigidCcdCoherence& c = m_cache;
-    if (c.tree != &m_tree || c.field != &m_field || c.nodeCount != m_tree.nodeCount() || c.sigma != m_settings.sigma ||
-        c.lipschitz != m_bounds.lipschitz) {
+    if (c.treeId != m_tree.instanceId() || c.fieldId != m_field.instanceId() || c.nodeCount != m_tree.nodeCount() ||
+        c.sigma != m_settings.sigma || c.lipschitz != m_bounds.lipschitz) {
       c.reset();
-      c.tree = &m_tree;
-      c.field = &m_field;
+      c.treeId = m_tree.instanceId();
+      c.fieldId = m_field.instanceId();
       c.nodeCount = m_tree.nodeCount();
       c.sigma = m_settings.sigma;
       c.lipschitz = m_bounds.lipschitz;

@@ -102,7 +102,8 @@ void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShe
 /// The same query started from the last query's front kept in `history` (rigid_ccd_coherence.h): the contacts,
 /// their order and firstFraction are the query above's bit for bit; only the stats differ. Runs serially (any
 /// `threads`). Queries the coherence does not cover run as above and leave `history` untouched: earliestOnly, a
-/// cullLipschitz override (whose culling may differ from the field's own bound) and the linear traversal.
+/// cullLipschitz override (whose culling may differ from the field's own bound) and the linear traversal. A field
+/// without an instance id (all but GridField) runs as above and resets `history` (rigid_ccd_coherence.h).
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult);

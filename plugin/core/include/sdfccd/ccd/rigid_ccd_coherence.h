@@ -19,7 +19,10 @@
 /// point).
 ///
 /// Ownership: the caller keeps one per (shell, field) pair and role and passes it to every query of that pair;
-/// a query with another tree, field, sigma or gradient bound starts afresh. Not thread safe: one query at a time.
+/// a query with another tree, field, sigma or gradient bound starts afresh. Tree and field are told apart by their
+/// instance ids (instance_id.h), never by address, so a new object at a freed one's address starts afresh too;
+/// fields without an id (the analytic and triangle fields, usually per-step locals) run the fresh query and
+/// reset the history. Not thread safe: one query at a time.
 #pragma once
 
 #include <cstdint>
@@ -35,8 +38,8 @@ class RigidCcdCoherence {
   void reset() {
     front.clear();
     poses.clear();
-    tree = nullptr;
-    field = nullptr;
+    treeId = 0;
+    fieldId = 0;
   }
   /// Front nodes after the last query (0 before the first).
   std::size_t frontSize() const { return front.size(); }
@@ -54,8 +57,8 @@ class RigidCcdCoherence {
   std::vector<Rigid> poses;             // sdfFromShell at each certificate's pose
   std::vector<int> parent;              // per tree node (-1: root)
   std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
-  const void* tree = nullptr;           // the key: a query with other inputs starts afresh
-  const void* field = nullptr;
+  std::uint64_t treeId = 0;   // the key: a query with other inputs starts afresh. Instance ids (instance_id.h),
+  std::uint64_t fieldId = 0;  // not addresses: a new tree or field at a freed one's address must not match
   int nodeCount = 0;
   double sigma = 0.0;
   double lipschitz = 0.0;

@@ -24,6 +24,7 @@
 #include "sdfccd/field/field_interface.h"
 #include "sdfccd/field/min_distance_octree.h"
 #include "sdfccd/field/sdf_grid.h"
+#include "sdfccd/instance_id.h"
 
 namespace sdfccd {
 
@@ -54,10 +55,13 @@ class GridField {
 
   /// Bytes held by the grid values plus the octree.
   std::size_t memoryBytes() const { return m_grid->memoryBytes() + m_octree.memoryBytes(); }
+  /// Names this field's contents (never reused, unlike its address): keys caches such as RigidCcdCoherence.
+  std::uint64_t instanceId() const { return m_id.value(); }
 
  private:
   struct LazyCullingBounds;
 
+  InstanceId m_id;
   std::shared_ptr<const SdfGrid> m_grid;
   MinDistanceOctree m_octree;
   std::shared_ptr<LazyCullingBounds> m_cullingBounds;  // shared by copies: they share the grid

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sdfccd/instance_id.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/shell/point_shell.h"
 
@@ -65,7 +66,11 @@ class PointTree {
   /// Appends the shell indices of every point below `node` (itself included) to `out`.
   void pointsUnder(int node, std::vector<int>& out) const;
 
+  /// Names this tree's contents (never reused, unlike its address): keys caches such as RigidCcdCoherence.
+  std::uint64_t instanceId() const { return m_id.value(); }
+
  private:
+  InstanceId m_id;
   PointShell m_shell;
   std::vector<Vec3> m_center;
   std::vector<double> m_radius;
