@@ -294,12 +294,12 @@ class SdfccdContactSystem : public btActionInterface {
 
   SdfccdContactSettings m_settings;
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> m_createFuncs;
-  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;  // by shape type, sizes, spacing
+  std::unordered_map<std::string, std::unique_ptr<PointTree>> m_convexTrees;       // by shape type, sizes, spacing
   std::unordered_map<const btCollisionObject*, SdfccdBodyContact> m_bodyContacts;  // setBodyContact
-  std::unique_ptr<detail::ConvexShapeCache> m_convexShapes;                   // other convex shapes' fields and shells
-  std::unique_ptr<PointTree> m_meshVertices;       // the current mesh role's vertices (one role at a time)
-  SdfccdLogCallback m_log;                         // announcements (stderr unless set)
-  std::set<std::pair<int, int>> m_announcedPairs;  // shape type pairs announced unsupported
+  std::unique_ptr<detail::ConvexShapeCache> m_convexShapes;  // other convex shapes' fields and shells
+  std::unique_ptr<PointTree> m_meshVertices;                 // the current mesh role's vertices (one role at a time)
+  SdfccdLogCallback m_log;                                   // announcements (stderr unless set)
+  std::set<std::pair<int, int>> m_announcedPairs;            // shape type pairs announced unsupported
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
   std::vector<Record> m_records;
