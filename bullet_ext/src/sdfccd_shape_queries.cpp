@@ -30,7 +30,9 @@
 #include <cmath>
 #include <cstdint>
 #include <iterator>
+#include <memory>
 #include <mutex>
+#include <vector>
 
 #include "bullet_conversions.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
@@ -105,10 +107,33 @@ struct QueryScratch {
   bool seen(int index) const { return stamps[static_cast<std::size_t>(index)] == query; }
 };
 
-QueryScratch& queryScratch() {
-  thread_local QueryScratch scratch;
-  return scratch;
-}
+/// The scratch of one query on this thread, leased for the query's duration. A result callback may cast again
+/// from inside a query (Bullet's reportHit calls the user's addSingleResult, which may call rayTest): the nested
+/// query leases the next scratch of this thread's stack, so the outer query's candidate list and stamps stay
+/// intact. One scratch per nesting depth, kept for the thread's lifetime (no allocation per query).
+class ScratchLease {
+ public:
+  ScratchLease() {
+    Stack& stack = threadStack();
+    if (stack.depth == stack.scratches.size()) stack.scratches.push_back(std::make_unique<QueryScratch>());
+    m_scratch = stack.scratches[stack.depth++].get();
+  }
+  ~ScratchLease() { --threadStack().depth; }
+  ScratchLease(const ScratchLease&) = delete;
+  ScratchLease& operator=(const ScratchLease&) = delete;
+  QueryScratch& operator*() const { return *m_scratch; }
+
+ private:
+  struct Stack {
+    std::vector<std::unique_ptr<QueryScratch>> scratches;  // unique_ptr: growing the stack moves no scratch
+    std::size_t depth = 0;
+  };
+  static Stack& threadStack() {
+    thread_local Stack stack;
+    return stack;
+  }
+  QueryScratch* m_scratch = nullptr;
+};
 
 /// The fractions [t0, t1] of the segment a + t (b - a) inside `box` (slab clipping); false when it misses.
 bool clipToBox(const Vec3& a, const Vec3& b, const Box3& box, double& t0, double& t1) {
@@ -215,7 +240,8 @@ void SdfccdShape::feedTrianglesNear(btTriangleCallback* callback, const btScalar
   settings.sigma = pad;
   settings.mode = CcdMode::FirstHit;
   SegmentCcdResult result;
-  QueryScratch& scratch = queryScratch();
+  const ScratchLease lease;
+  QueryScratch& scratch = *lease;
   const TriangleMesh& mesh = m_model->meshInBody();
   scratch.begin(mesh.triangles.size());
   double t = tBegin;

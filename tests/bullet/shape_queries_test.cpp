@@ -6,6 +6,7 @@
 #include <btBulletCollisionCommon.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -28,6 +29,7 @@ struct BruteForceRay : btTriangleRaycastCallback {
   BruteForceRay(const btVector3& from, const btVector3& to) : btTriangleRaycastCallback(from, to) {}
   btScalar reportHit(const btVector3& normal, btScalar fraction, int, int triangleIndex) override {
     ++hits;
+    if (fractions) fractions->push_back(fraction);
     if (fraction < closest) {
       closest = fraction;
       closestNormal = normal;
@@ -39,6 +41,7 @@ struct BruteForceRay : btTriangleRaycastCallback {
   btScalar closest = 1;
   btVector3 closestNormal;
   int closestTriangle = -1;
+  std::vector<btScalar>* fractions = nullptr;  ///< every hit's fraction, when set
 };
 
 /// The body-frame triangles of the bunny as btVector3 triples (converted once).
@@ -220,6 +223,59 @@ TEST(ShapeQueries, AllHitsCountsEveryCrossingOnce) {
     multi += reference.hits > 2;
   }
   EXPECT_GT(multi, 3);  // rays through the ears and the body cross more than twice
+}
+
+/// An all-hits callback that casts another ray through the same world from inside each result, as a user's
+/// callback may (a probe from the hit point): the nested query must not disturb the outer one.
+struct NestingAllHits : btCollisionWorld::AllHitsRayResultCallback {
+  NestingAllHits(btCollisionWorld& world, const btTransform& bodyFromWorld, const btVector3& from, const btVector3& to,
+                 const btVector3& probeTo)
+      : AllHitsRayResultCallback(from, to), world(world), inverse(bodyFromWorld), probeTo(probeTo) {}
+  btScalar addSingleResult(btCollisionWorld::LocalRayResult& result, bool normalInWorldSpace) override {
+    const btVector3 hit = m_rayFromWorld.lerp(m_rayToWorld, result.m_hitFraction);
+    btCollisionWorld::AllHitsRayResultCallback probe(hit, probeTo);
+    world.rayTest(hit, probeTo, probe);
+    nestedHits += static_cast<int>(probe.m_hitFractions.size());
+    const BruteForceRay reference = bruteForce(inverse * hit, inverse * probeTo);
+    nestedMismatches += static_cast<int>(probe.m_hitFractions.size()) != reference.hits;
+    return AllHitsRayResultCallback::addSingleResult(result, normalInWorldSpace);
+  }
+  btCollisionWorld& world;
+  btTransform inverse;  ///< body from world (the brute-force reference works in the body frame)
+  btVector3 probeTo;
+  int nestedHits = 0;
+  int nestedMismatches = 0;  ///< nested rays whose crossings differ from the brute-force scan's
+};
+
+// A rayTest from inside a result callback (nested query on the same thread) leaves the outer query's answer
+// unchanged: every crossing once, at the brute-force scan's fractions, and the nested rays are answered right too.
+// (Before each query leased its own scratch, the nested query cleared and regrew the outer one's candidate list
+// while the outer loop iterated it: a heap-use-after-free under the ASan run.)
+TEST(ShapeQueries, NestedRayTestFromAResultCallback) {
+  QueryWorld w;
+  std::mt19937 rng(20);
+  int nested = 0;
+  for (int i = 0; i < 30; ++i) {
+    const btVector3 from = w.centreWorld() + randomUnit(rng) * btScalar(w.size());
+    const btVector3 to = w.centreWorld() - (from - w.centreWorld());
+    const btVector3 probeTo = w.centreWorld() + randomUnit(rng) * btScalar(w.size());
+    const btTransform inverse = w.pose().inverse();
+    NestingAllHits ours(w.ours(), inverse, from, to, probeTo);
+    w.ours().rayTest(from, to, ours);
+    BruteForceRay reference(inverse * from, inverse * to);
+    std::vector<btScalar> expected;
+    reference.fractions = &expected;
+    scanAll(reference);
+    std::vector<btScalar> got;
+    for (int k = 0; k < ours.m_hitFractions.size(); ++k) got.push_back(ours.m_hitFractions[k]);
+    std::sort(got.begin(), got.end());
+    std::sort(expected.begin(), expected.end());
+    ASSERT_EQ(got.size(), expected.size()) << i;
+    for (std::size_t k = 0; k < got.size(); ++k) EXPECT_NEAR(got[k], expected[k], 1e-6) << i;
+    EXPECT_EQ(ours.nestedMismatches, 0) << i;
+    nested += ours.nestedHits;
+  }
+  EXPECT_GT(nested, 10);  // the nested rays did walk the triangles
 }
 
 // Convex sweeps (sphere, box) give the btBvhTriangleMeshShape's closest hit.
