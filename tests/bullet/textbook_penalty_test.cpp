@@ -22,7 +22,7 @@
 #include "sdfccd/response/contact_material.h"
 
 namespace sdfccd {
-namespace {
+namespace textbook_penalty_test {
 
 constexpr double kG = 9.81;     // m/s^2
 constexpr double kHalf = 0.05;  // m, half size of the test boxes
@@ -438,5 +438,5 @@ TEST(TextbookPenalty, TwoChildCompoundRestsOnTheGround) {
   EXPECT_LT(omega.length(), 0.01);
 }
 
-}  // namespace
+}  // namespace textbook_penalty_test
 }  // namespace sdfccd

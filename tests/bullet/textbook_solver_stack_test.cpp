@@ -27,7 +27,7 @@
 #include "textbook_solver_util.h"
 
 namespace sdfccd {
-namespace {
+namespace textbook_solver_stack_test {
 
 using namespace solver_textbook;
 
@@ -228,5 +228,5 @@ TEST(SolverTextbook, ContactSolverKeyBuildsThatSolverShort) {
   test::expectOneLineError([&] { solverOf(R"({"mode": "penalty", "solver": "mlcp"})"); }, "contact.solver");
 }
 
-}  // namespace
+}  // namespace textbook_solver_stack_test
 }  // namespace sdfccd

@@ -31,7 +31,7 @@
 #include "textbook_solver_util.h"
 
 namespace sdfccd {
-namespace {
+namespace textbook_solver_test {
 
 using namespace solver_textbook;
 
@@ -329,7 +329,9 @@ void expectRestingBunnyComesToRest(double timestep, double seconds, bool sleepin
       world->bodyState(0).position.y());
   EXPECT_FALSE(world->hasNonFinite());
   EXPECT_LT(world->kineticEnergy(), 1e-6);
-  if (sleeping) EXPECT_EQ(world->body(0).getActivationState(), ISLAND_SLEEPING);
+  if (sleeping) {
+    EXPECT_EQ(world->body(0).getActivationState(), ISLAND_SLEEPING);
+  }
 }
 
 TEST(SolverTextbook, RestingBunnyComesToRestAndSleepsShort) {
@@ -396,11 +398,11 @@ TEST(SolverTextbook, DISABLED_KinematicBoxPushesABunnyAtBulletsDefaultStep) {
   expectKinematicBoxPushesABunny(1.0 / 60.0);
 }
 
-}  // namespace
+}  // namespace textbook_solver_test
 }  // namespace sdfccd
 
 namespace sdfccd {
-namespace {
+namespace textbook_solver_test {
 
 TEST(SolverTextbook, SceneKeysShort) {
   const std::string body = R"({"primitive": {"type": "box"}, "mass": 1, "friction": 0.25, "restitution": 0.5})";
@@ -422,5 +424,5 @@ TEST(SolverTextbook, SceneKeysShort) {
       "friction");
 }
 
-}  // namespace
+}  // namespace textbook_solver_test
 }  // namespace sdfccd
