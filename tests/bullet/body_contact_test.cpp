@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "bullet_test_util.h"
+#include "bullet_world_fixture.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
@@ -21,48 +22,33 @@ std::shared_ptr<const BodyModel> ballModel() {
   return model;
 }
 
+SdfccdContactSettings perAreaPenalty(double stiffnessPerArea) {
+  SdfccdContactSettings settings;
+  settings.mode = SdfccdContactMode::Penalty;
+  settings.penalty.stiffnessPerArea = stiffnessPerArea;
+  return settings;
+}
+
 /// A 1 kg ball of radius 0.1 m dropped from 5 mm onto a static plane, in penalty mode with the per-area law.
 class BallOnPlane {
  public:
-  BallOnPlane(double worldStiffnessPerArea, const SdfccdBodyContact* ballOverride) : shape_(ballModel()) {
-    world_.setGravity(btVector3(0, -9.81f, 0));
-    SdfccdContactSettings settings;
-    settings.mode = SdfccdContactMode::Penalty;
-    settings.penalty.stiffnessPerArea = worldStiffnessPerArea;
-    contacts_ = registerSdfccdAlgorithms(&world_, settings);
-    world_.addRigidBody(&ground_);
-    btVector3 inertia;
-    shape_.calculateLocalInertia(1, inertia);
-    ball_ = std::make_unique<btRigidBody>(1, nullptr, &shape_, inertia);
-    ball_->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.105f, 0)));
-    ball_->setActivationState(DISABLE_DEACTIVATION);
-    world_.addRigidBody(ball_.get());
-    if (ballOverride != nullptr) contacts_->setBodyContact(ball_.get(), *ballOverride);
-  }
-  ~BallOnPlane() {
-    world_.removeRigidBody(ball_.get());
-    world_.removeRigidBody(&ground_);
-    releaseSdfccdAlgorithms(&world_);
+  BallOnPlane(double worldStiffnessPerArea, const SdfccdBodyContact* ballOverride)
+      : world_(perAreaPenalty(worldStiffnessPerArea)) {
+    world_.add(std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), 0), 0.0, Vec3::Zero());
+    ball_ = &world_.add(std::make_unique<SdfccdShape>(ballModel()), 1.0, Vec3(0, 0.105, 0));
+    if (ballOverride != nullptr) contacts().setBodyContact(ball_, *ballOverride);
   }
   /// Steps 1 s at 1 kHz; returns the ball's height.
   double settle() {
-    for (int i = 0; i < 1000; ++i) world_.stepSimulation(0.001f, 0);
+    world_.step(1000, 0.001);
     return double(ball_->getWorldTransform().getOrigin().y());
   }
-  SdfccdContactSystem& contacts() { return *contacts_; }
-  const btRigidBody* ball() const { return ball_.get(); }
+  SdfccdContactSystem& contacts() { return *world_.contacts; }
+  const btRigidBody* ball() const { return ball_; }
 
  private:
-  btDefaultCollisionConfiguration configuration_;
-  btCollisionDispatcher dispatcher_{&configuration_};
-  btDbvtBroadphase broadphase_;
-  btSequentialImpulseConstraintSolver solver_;
-  btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
-  std::shared_ptr<SdfccdContactSystem> contacts_;
-  btStaticPlaneShape planeShape_{btVector3(0, 1, 0), 0};
-  btRigidBody ground_{0, nullptr, &planeShape_};
-  SdfccdShape shape_;
-  std::unique_ptr<btRigidBody> ball_;
+  test::BulletTestWorld world_;
+  btRigidBody* ball_ = nullptr;
 };
 
 // A ball with stiffness k0/4 against a plane at the world's k0 rests exactly as a ball in a world of
