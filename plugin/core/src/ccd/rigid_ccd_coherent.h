@@ -107,7 +107,13 @@ class CoherentQuery {
     constexpr double eps = tolerance::kRelativeSlack;
     if (e.kind == RigidCcdCoherence::Kind::Box) return e.clearance * (1.0 - eps);
     const double margin = e.clearance - m_settings.sigma - eps * (std::abs(e.clearance) + std::abs(m_settings.sigma));
-    return margin / m_bounds.lipschitz * (1.0 - eps);
+    const double room = margin / m_bounds.lipschitz * (1.0 - eps);
+    // A field with jumps: the room holds as it is when no jump is within it of the certificate's centre;
+    // otherwise the jump comes off the margin (a smaller room, so the same check still covers it).
+    const Vec3 c = m_query.endOf(m_tree.center(e.node));
+    const double jump = room > 0.0 ? fieldJumpNear(m_field, m_bounds, c, c, room) : 0.0;
+    if (jump == 0.0) return room;
+    return (margin - jump * (1.0 + eps)) / m_bounds.lipschitz * (1.0 - eps);
   }
 
   /// A certificate for `node` at this step's end pose (whether it is worth anything, certified() decides each

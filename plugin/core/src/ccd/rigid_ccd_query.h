@@ -115,7 +115,10 @@ class RigidCcdQuery {
     const Vec3 c0 = tStart > 0.0 ? Vec3(cStart + tStart * (c1 - cStart)) : cStart;
     const double rho = m_tree.radius(node);
     // Slack against rounding: the points' segments are computed with different roundings than the centre's.
-    const double reach = m_bounds.lipschitz * rho * tolerance::kBoundGrowth;
+    // A field with jumps (a triangle set's slabs) can drop by `jump` more than its Lipschitz bound says, where
+    // the node's path comes near one.
+    const double jump = fieldJumpNear(m_field, m_bounds, c0, c1, rho);
+    const double reach = m_bounds.lipschitz * rho * tolerance::kBoundGrowth + jump;
     const double sigmaNode = m_settings.sigma + reach;
     // The part of [c0, c1] up to tLimit, as a fraction of [c0, c1] (with a margin against rounding).
     const double reachFraction =
@@ -137,7 +140,7 @@ class RigidCcdQuery {
     // phi(c0) - lipschitz * |c1 - c0|, on the part inside the box when c0 is (the box is convex).
     if (!m_bounds.bounded || m_bounds.box.contains(c0)) {
       const double lowest =
-          m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * reachFraction * tolerance::kBoundGrowth;
+          m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * reachFraction * tolerance::kBoundGrowth - jump;
       if (lowest > sigmaNode) return false;
     }
     SegmentCcdSettings nodeSettings = m_node;
@@ -249,7 +252,8 @@ class RigidCcdQuery {
       stack.pop_back();
       const Vec3 c0 = startOf(m_tree.center(node));
       const double rho = m_tree.radius(node);
-      const double reach = m_bounds.lipschitz * rho * tolerance::kBoundGrowth;
+      const double reach =
+          m_bounds.lipschitz * rho * tolerance::kBoundGrowth + fieldJumpNear(m_field, m_bounds, c0, c0, rho);
       if (m_bounds.bounded && !m_bounds.box.contains(c0)) {
         // Points below lie within rho of c0; inside the box phi >= boundaryMin - L rho there.
         const Vec3 nearest = c0.cwiseMax(m_bounds.box.min()).cwiseMin(m_bounds.box.max());

@@ -237,6 +237,19 @@ bool TriangleSetField::behindInterval(int k, const Vec3& p0, const Vec3& d, Inte
   return true;
 }
 
+bool TriangleSetField::jumpReachable(const Vec3& c0, const Vec3& c1, double reach) const {
+  if (!(m_thickness > 0.0)) return false;  // no slabs: 1-Lipschitz everywhere
+  Box3 near(c0.cwiseMin(c1), c0.cwiseMax(c1));
+  near.min().array() -= reach;
+  near.max().array() += reach;
+  for (std::size_t k = 0; k < m_triangles.size(); ++k) {
+    if (!near.intersects(m_boxes[k])) continue;  // the slab (inside its box) is out of reach
+    const Vec3& a = m_vertices[static_cast<std::size_t>(m_triangles[k][0])];
+    if (m_normals[k].dot(c0 - a) < 0.0 || m_normals[k].dot(c1 - a) < 0.0) return true;
+  }
+  return false;
+}
+
 double TriangleSetField::distance(const Vec3& pointInSdf) const {
   double d = 0.0;
   nearestTriangle(pointInSdf, d);

@@ -14,6 +14,10 @@
 /// within rho of the box from outside and boundaryMin - lipschitz * rho <= sigma. With that, the tree
 /// returns exactly the contacts of the point-by-point query (tests pin it on random grids).
 ///
+/// A field that is not continuous (TriangleSetField: a point just behind a triangle is inside, one just past the
+/// slab's back face or beside the open edge is outside again) reports how far phi can drop across a jump
+/// (`jump`); every culling bound subtracts it.
+///
 /// Analytic fields are 1-Lipschitz and unbounded: the default bounds (the paper's assumption). A GridField
 /// computes its bounds once, on first use (O(cells)), and holds them (GridField::cullingBounds());
 /// fieldCullingBounds() (field_interface.h) answers for any field type.
@@ -30,6 +34,10 @@ struct FieldCullingBounds {
   bool bounded = false;      ///< true: no contact outside `box`
   Box3 box;                  ///< the field's box, field frame (bounded only)
   double boundaryMin = 0.0;  ///< lower bound of phi on the box faces (model units; bounded only)
+  /// Largest drop of phi across its discontinuities (model units): phi(q) >= phi(p) - lipschitz |p - q| - jump
+  /// for any p, q. 0 for a continuous field; a TriangleSetField's slabs give 2 x thickness. The culling grows
+  /// sigma by it where the field cannot rule it out (fieldJumpNear, field_interface.h).
+  double jump = 0.0;
 };
 
 /// The bounds of a grid, computed in one pass over its cells (GridField::cullingBounds() holds them).

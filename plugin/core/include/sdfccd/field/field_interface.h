@@ -58,6 +58,29 @@ template <class Field>
 struct HasCullingBounds<Field, std::void_t<decltype(std::declval<const Field&>().cullingBounds())>> : std::true_type {};
 }  // namespace detail
 
+namespace detail {
+template <class Field, class = void>
+struct HasJumpReachable : std::false_type {};
+template <class Field>
+struct HasJumpReachable<Field, std::void_t<decltype(std::declval<const Field&>().jumpReachable(
+                                   std::declval<const Vec3&>(), std::declval<const Vec3&>(), 0.0))>> : std::true_type {
+};
+}  // namespace detail
+
+/// The drop the culling must allow for points within `reach` of the segment [c0, c1] beyond `bounds.lipschitz`
+/// (field_culling_bounds.h): 0 for a continuous field, else `bounds.jump` unless the field can tell that no
+/// jump is within reach (TriangleSetField::jumpReachable).
+template <class Field>
+double fieldJumpNear(const Field& field, const FieldCullingBounds& bounds, const Vec3& c0, const Vec3& c1,
+                     double reach) {
+  if (!(bounds.jump > 0.0)) return 0.0;
+  if constexpr (detail::HasJumpReachable<Field>::value) {
+    return field.jumpReachable(c0, c1, reach) ? bounds.jump : 0.0;
+  } else {
+    return bounds.jump;
+  }
+}
+
 /// What the point tree's culling may assume of `field` (field_culling_bounds.h): a grid field's own bounds;
 /// for the analytic fields (exact distances, 1-Lipschitz, defined everywhere) the paper's assumption.
 template <class Field>

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/field/field_culling_bounds.h"
 #include "sdfccd/field/field_interface.h"
 #include "sdfccd/math_types.h"
 
@@ -91,6 +92,21 @@ class TriangleSetField {
   double radius() const { return m_radius; }
   double thickness() const { return m_thickness; }
   bool contains(const Vec3&) const { return true; }
+  /// Not continuous: phi drops from +d to -d (d <= thickness) where a point enters a slab through its back face
+  /// or beside an open edge. Per triangle, phi_k(q) >= udist_k(q) - r - 2 min(thickness, depth of q in slab k), so
+  /// from a point p in front of triangle k's plane (or in its slab) the drop is at most 2 |q - p| (q can be no
+  /// deeper than |q - p|): phi(q) >= phi(p) - 3 |q - p|, the `lipschitz` 3. From behind a plane and outside that
+  /// slab it is up to 2 thickness, the `jump`, which the culling adds only where jumpReachable() says so.
+  FieldCullingBounds cullingBounds() const {
+    FieldCullingBounds bounds;
+    bounds.lipschitz = 3.0;
+    bounds.jump = 2.0 * m_thickness;
+    return bounds;
+  }
+  /// False when every point within `reach` of the segment [c0, c1] is bounded from both ends with `lipschitz`
+  /// alone: no triangle whose slab box comes within `reach` of the segment's box has c0 or c1 behind its plane.
+  /// (True is conservative: the culling then adds the jump.)
+  bool jumpReachable(const Vec3& c0, const Vec3& c1, double reach) const;
 
   double distance(const Vec3& pointInSdf) const;
   /// Over a triangle's face: its normal, turned to the outside. Beside it: the unit direction from its nearest
