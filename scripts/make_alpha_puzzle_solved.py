@@ -34,8 +34,9 @@ def scene(name, desc, resolution, points, offset):
 common = ("Paper Section 5 (alpha puzzle), solved: the pieces of alpha-puzzle.json taken apart along a path planned from the generator's geometry "
           "(demos/tools/alpha_puzzle_path.cpp: RRT-Connect on the tubes' centre curves, clearance at least 0.0047 generator units = 0.09 mm on the whole path, shortened, "
           "then pulled straight away until the centres are 1.3 piece lengths apart). The generator's gap where the loop crosses itself is 0.597 between the curves, "
-          "0.003 short of a tube diameter (0.6): the pieces as generated cannot pass each other without penetrating (by 0.03 mm). As the paper does for its starter motor "
-          "(Fig. 13b: the distance field offset slightly), the static piece's field is offset by -0.2 mm (the tube thinned by 3.3% of its radius: 0.01 generator units), which opens the gap to 0.007 generator units. The hand first pulls the piece against the static loop (0.3-1.5 s, in contact), then follows the path.")
+          "0.003 short of a tube diameter (0.6): round tubes could not pass each other (the 24-sided meshes, up to 0.0013 thinner, just can: "
+          "without the offset the constraint method slides through the neck in contact). As the paper does for its starter motor "
+          "(Fig. 13b: the distance field offset slightly), the static piece's field is offset by -0.2 mm (the tube thinned by 6.7% of its radius: 0.01 generator units), which opens the gap to 0.007 generator units. The hand first pulls the piece against the static loop (0.3-1.5 s, in contact), then follows the path.")
 full = scene("alpha-puzzle-solved", common + " 512-cell field (cached with alpha-puzzle.json's), 25,000 points.", 512, 25000, -1.05)
 small = scene("alpha-puzzle-solved-small", common + " Test variant: 128-cell field, 3,000 points.", 128, 3000, -0.27)
 for s in (full, small):

@@ -263,9 +263,12 @@ std::string addSceneClaims(MarkdownTable& claims, const SummaryLookup& at, bool 
       "crosses itself the strands' centre curves come 0.597 units apart, their surfaces 0.297, less than the other "
       "tube's diameter (0.3; test AlphaPuzzleSolved.GeneratorsGapIsNarrowerThanTheTube). As the paper did for its "
       "starter motor (Fig. 13b, the field offset by about 1 mm), the solved scene offsets the static field by "
-      "-0.2 mm (the tube 3%% thinner). The path was planned from the geometry (demos/tools/alpha_puzzle_path.cpp: "
+      "-0.2 mm (the tube 6.7%% thinner). The path was planned from the geometry (demos/tools/alpha_puzzle_path.cpp: "
       "RRT-Connect on the tubes' centre curves, clearance at least 0.09 mm) and the hand follows it within 0.03 mm, "
-      "so the pieces touch only in the pull against the loop that precedes it. %s\n",
+      "so the pieces touch only in the pull against the loop that precedes it. The 24-sided meshes are up to 0.0013 "
+      "units thinner than round tubes, which is just enough: without the offset the same hand takes the generator's "
+      "pieces apart too, the constraint god-object sliding through the neck in contact with zero penetration (test "
+      "AlphaPuzzleSolved.ConstraintMethodAlsoTakesTheUnthinnedPiecesApartInContact). %s\n",
       quick ? "Quick mode runs the 3,000-point variant (128-cell field)."
             : "The full run: 25,000 points against the 512-cell field.");
   md +=

@@ -14,7 +14,7 @@
 ///
 /// The generator's pieces cannot be separated as they are: where a loop crosses itself its strands' centre curves
 /// come 0.597 apart, their surfaces 0.297, less than the other tube's diameter (0.3). `thinning` makes the fixed
-/// piece's tube thinner (the scene offsets its field by as much); with 0.01 (3% of the radius) a path with
+/// piece's tube thinner (the scene offsets its field by as much); with 0.01 (6.7% of the radius) a path with
 /// clearance 0.003 exists and RRT-Connect finds it in about a million clearance evaluations.
 ///
 /// Usage: alpha_puzzle_path [margin=0.003] [thinning=0.01] [scale=0.02] [speed=1.5] [seed=1] [maxNodes=80000]
