@@ -283,12 +283,15 @@ std::string addSceneClaims(MarkdownTable& claims, const SummaryLookup& at, bool 
       "the slow pass sinks 0.86 cells), so the half-voxel claim holds only for slow motion with enough contact "
       "stiffness; thrown bodies are not held by saturation at all (Fig. 11: the whole radius of the cylinders).\n";
   md +=
-      "- **Fig. 13.** Our false negative has a different cause than the paper's floating-point one. The slot is 0.01 "
-      "voxel per side wider than the plate, below the constraint method's safety distance sigma = 0.02 voxel: CCD "
-      "stops the plate's front corners sigma from the slot's edges, where the field's normals turn round the "
-      "edges, so the contacts above and below forbid every forward motion. With a slot 0.1 voxel wider (above sigma) "
-      "an aligned plate passes (test Fig13NarrowPassage.SlotWiderThanSigmaLetsTheConstraintMethodThrough); the "
-      "locked pocket (fig13-locked-pocket.json) still makes the QP report Stuck.\n";
+      "- **Fig. 13.** As in the paper's Fig. 13a, the normals at the passage's edges close the cone of permitted "
+      "motions, but the cause differs from the paper's (normals sampled at points, floating point): the slot is "
+      "0.01 voxel per side wider than the plate, below the constraint method's safety distance sigma = 0.02 voxel. "
+      "CCD stops the plate's front corners sigma from the slot's edges, where the field's gradient turns round the "
+      "edges, so the contacts above and below the plate forbid every forward motion (the plate may only back out, "
+      "or turn, which the QP does). With the slot 0.1 voxel wider (above sigma) an aligned plate passes (test "
+      "Fig13NarrowPassage.SlotWiderThanSigmaLetsTheConstraintMethodThrough): with a clearance above sigma we found "
+      "no false negative of the paper's kind. The locked pocket (fig13-locked-pocket.json) still makes the QP "
+      "report Stuck.\n";
   md +=
       "- **Landing gear.** A CSG stand-in for the Boeing model: struts, an axle, an inclined brace and four wires "
       "2 voxels wide, 4 mm apart. With a single wire the constraint method turned the actuator and slid round the "
