@@ -25,14 +25,56 @@ using detail::Json;
 using Reader = detail::JsonReader;
 
 double CsgPrimitive::signedDistance(const Vec3& p) const {
-  if (kind == Kind::Box) {
-    const Vec3 q = (p - center).cwiseAbs() - halfExtents;
-    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+  switch (kind) {
+    case Kind::Box: {
+      const Vec3 q = (p - center).cwiseAbs() - halfExtents;
+      return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+    }
+    case Kind::Cylinder: {
+      const Vec3 d3 = p - center;
+      const double along = d3.dot(axis);
+      const double radial = (d3 - along * axis).norm() - radius;
+      const double axial = std::abs(along) - halfHeight;
+      return std::min(std::max(radial, axial), 0.0) + std::hypot(std::max(radial, 0.0), std::max(axial, 0.0));
+    }
+    case Kind::Capsule: {
+      const Vec3 segment = end - center;
+      const double lengthSquared = segment.squaredNorm();
+      const double u = lengthSquared > 0.0 ? std::clamp((p - center).dot(segment) / lengthSquared, 0.0, 1.0) : 0.0;
+      return (p - (center + u * segment)).norm() - radius;
+    }
   }
-  const Vec3 d3 = p - center;
-  const double radial = std::hypot(d3.x(), d3.z()) - halfExtents.x();
-  const double axial = std::abs(d3.y()) - halfExtents.y();
-  return std::min(std::max(radial, axial), 0.0) + std::hypot(std::max(radial, 0.0), std::max(axial, 0.0));
+  return 0.0;
+}
+
+Box3 CsgPrimitive::bounds() const {
+  const auto bad = [] { throw Error("obstacle: a solid has a non-positive or non-finite size"); };
+  Box3 box;
+  switch (kind) {
+    case Kind::Box:
+      if (!center.allFinite() || !halfExtents.allFinite() || !(halfExtents.minCoeff() > 0.0)) bad();
+      box.extend(center - halfExtents);
+      box.extend(center + halfExtents);
+      break;
+    case Kind::Cylinder: {
+      if (!center.allFinite() || !std::isfinite(radius) || !std::isfinite(halfHeight) || !(radius > 0.0) ||
+          !(halfHeight > 0.0) || !(std::abs(axis.norm() - 1.0) < 1e-9))
+        bad();
+      // Per world axis i: the end discs reach halfHeight |a_i| + radius sqrt(1 - a_i^2) from the centre.
+      Vec3 half;
+      for (int i = 0; i < 3; ++i)
+        half[i] = halfHeight * std::abs(axis[i]) + radius * std::sqrt(std::max(0.0, 1.0 - axis[i] * axis[i]));
+      box.extend(center - half);
+      box.extend(center + half);
+      break;
+    }
+    case Kind::Capsule:
+      if (!center.allFinite() || !end.allFinite() || !std::isfinite(radius) || !(radius > 0.0)) bad();
+      box.extend(center.cwiseMin(end) - Vec3::Constant(radius));
+      box.extend(center.cwiseMax(end) + Vec3::Constant(radius));
+      break;
+  }
+  return box;
 }
 
 double CsgObstacle::signedDistance(const Vec3& p) const {
@@ -49,14 +91,8 @@ std::shared_ptr<const SdfGrid> sampleCsgObstacle(const CsgObstacle& obstacle) {
   if (obstacle.paddingCells < 0 || obstacle.paddingCells > 1000) throw Error("obstacle: paddingCells out of range");
   if (!std::isfinite(obstacle.offsetCells)) throw Error("obstacle: offsetCells is not finite");
   Box3 box;
-  for (const CsgPrimitive& s : obstacle.solids) {
-    const Vec3 half = s.kind == CsgPrimitive::Kind::Box ? s.halfExtents
-                                                        : Vec3(s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.x());
-    if (!s.center.allFinite() || !half.allFinite() || !(half.minCoeff() > 0.0))
-      throw Error("obstacle: a solid has a non-positive or non-finite size");
-    box.extend(s.center - half);
-    box.extend(s.center + half);
-  }
+  for (const CsgPrimitive& s : obstacle.solids) box.extend(s.bounds());
+  for (const CsgPrimitive& s : obstacle.holes) (void)s.bounds();  // checks the holes' sizes too
   const double h = obstacle.spacing;
   const Vec3 origin = box.min() - Vec3::Constant(obstacle.paddingCells * h);
   const Vec3 size = box.sizes() + Vec3::Constant(2.0 * obstacle.paddingCells * h);
@@ -108,7 +144,8 @@ Rigid readPose(const Reader& r, const Json& j, const std::string& where) {
 
 CsgPrimitive readPrimitive(const Reader& r, const Json& j, const std::string& where) {
   r.checkObject(j, where);
-  r.checkKeys(j, {"box", "cylinder"}, where);
+  r.checkKeys(j, {"box", "cylinder", "capsule"}, where);
+  if (j.size() != 1) r.fail(where, "must hold exactly one of box, cylinder, capsule");
   CsgPrimitive p;
   if (j.contains("box")) {
     const std::string at = Reader::join(where, "box");
@@ -121,12 +158,22 @@ CsgPrimitive readPrimitive(const Reader& r, const Json& j, const std::string& wh
   } else if (j.contains("cylinder")) {
     const std::string at = Reader::join(where, "cylinder");
     const Json& c = r.object(j, "cylinder", where);
-    r.checkKeys(c, {"center", "radius", "halfHeight"}, at);
-    p.kind = CsgPrimitive::Kind::CylinderY;
+    r.checkKeys(c, {"center", "radius", "halfHeight", "axis"}, at);
+    p.kind = CsgPrimitive::Kind::Cylinder;
     p.center = r.vec3(c, "center", at, Vec3::Zero(), true);
-    p.halfExtents = Vec3(r.positive(c, "radius", at, 0.0, true), r.positive(c, "halfHeight", at, 0.0, true), 0.0);
+    p.radius = r.positive(c, "radius", at, 0.0, true);
+    p.halfHeight = r.positive(c, "halfHeight", at, 0.0, true);
+    if (c.contains("axis")) p.axis = unitAxis(r, c, "axis", at);  // default: y
+  } else if (j.contains("capsule")) {
+    const std::string at = Reader::join(where, "capsule");
+    const Json& c = r.object(j, "capsule", where);
+    r.checkKeys(c, {"from", "to", "radius"}, at);
+    p.kind = CsgPrimitive::Kind::Capsule;
+    p.center = r.vec3(c, "from", at, Vec3::Zero(), true);
+    p.end = r.vec3(c, "to", at, Vec3::Zero(), true);
+    p.radius = r.positive(c, "radius", at, 0.0, true);
   } else {
-    r.fail(where, "must be {\"box\": ...} or {\"cylinder\": ...}");
+    r.fail(where, "must be {\"box\": ...}, {\"cylinder\": ...} or {\"capsule\": ...}");
   }
   return p;
 }

@@ -81,7 +81,7 @@ TEST(HapticSession, BoxSlidesOnAPlane) {
 }
 
 TEST(HapticSession, Fig13PocketReportsStuckNeverNaN) {
-  const HapticScene scene = loadHapticScene(test::scenePath("fig13-narrow-passage.json"));
+  const HapticScene scene = loadHapticScene(test::scenePath("fig13-locked-pocket.json"));
   HapticSessionSettings s;
   s.method = HapticMethod::Constraint;
   const HapticSessionResult r = runHapticSession(scene, s);

@@ -13,9 +13,9 @@
 /// folder, then the scene's folder and its ancestors); fields built from meshes are kept in the model cache
 /// (sdfccd/model/model_cache.h).
 ///
-/// Static objects come from a mesh file (buildSdf, exact distances) or are built on the grid from exact box and y-axis
-/// cylinder signed distances combined by CSG: phi = max(min_i solid_i, -min_j hole_j). Its zero level set is the exact
-/// boundary, and near flat walls the values are the exact distances, so a field offset of 0.1 voxel
+/// Static objects come from a mesh file (buildSdf, exact distances) or are built on the grid from exact box,
+/// cylinder and capsule signed distances combined by CSG: phi = max(min_i solid_i, -min_j hole_j). Its zero level set
+/// is the exact boundary, and near flat walls the values are the exact distances, so a field offset of 0.1 voxel
 /// ("fieldOffsetCells", field values minus 0.1 * spacing: the paper's shrunk hole) is exactly 0.1 voxel; a closed
 /// cavity (the stuck case of Fig. 13) is one hole. Shells come from the procedural meshes (box, cylinder, icosphere),
 /// sampled by particle repulsion (point_shell.h).
@@ -40,12 +40,19 @@
 
 namespace sdfccd::haptics {
 
-/// A CSG primitive of the static object, in the field's frame.
+/// A CSG primitive of the static object, in the field's frame: a box (axis-aligned), a finite cylinder along any
+/// axis, or a capsule (the points within `radius` of a segment: struts and wires at any angle, Figs. 8 and 12).
 struct CsgPrimitive {
-  enum class Kind { Box, CylinderY } kind = Kind::Box;
-  Vec3 center = Vec3::Zero();
-  Vec3 halfExtents = Vec3::Zero();             ///< box half sizes; for a cylinder (radius, half height, unused)
+  enum class Kind { Box, Cylinder, Capsule } kind = Kind::Box;
+  Vec3 center = Vec3::Zero();                  ///< box and cylinder: centre; capsule: one end of its segment
+  Vec3 halfExtents = Vec3::Zero();             ///< box: half sizes
+  Vec3 axis = Vec3::UnitY();                   ///< cylinder: unit axis
+  Vec3 end = Vec3::Zero();                     ///< capsule: the segment's other end
+  double radius = 0.0;                         ///< cylinder, capsule (model units)
+  double halfHeight = 0.0;                     ///< cylinder: half its length along `axis` (model units)
   double signedDistance(const Vec3& p) const;  ///< exact signed distance (model units)
+  /// A box holding the primitive. Throws sdfccd::Error on a non-positive or non-finite size or a non-unit axis.
+  Box3 bounds() const;
 };
 
 /// The static object of a scene as CSG (before sampling).
