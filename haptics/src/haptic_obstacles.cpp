@@ -191,8 +191,20 @@ class FieldShellPair final : public ObstaclePair {
     sum.wrenchOnTool += wrench;
     sum.contactCount += p.contactCount;
     sum.maxPenetration = std::max(sum.maxPenetration, p.maxPenetration);
-    addGradient(tool.worldFromShellEnd, field.worldFromSdfEnd, shell.worldFromShellEnd, query, consistentGradient,
-                sum.gradient);
+    Mat6 k = Mat6::Zero();
+    addGradient(tool.worldFromShellEnd, field.worldFromSdfEnd, shell.worldFromShellEnd, query, consistentGradient, k);
+    sum.gradient += k;
+    // The implicit step (penalty_renderer.h) predicts the next tick's contact force from the tool's own motion,
+    // F + h K v; a moving obstacle changes it too, as if the tool moved by minus the obstacle's motion. That motion,
+    // as a twist about the tool's centre c (the obstacle's velocity at c, and its spin), is fed forward here:
+    // F - h K V_obstacle, so that the step sees F + h K (v - V_obstacle). Without it a pushing wall presses v h
+    // deeper than the force balance asks (the contact lags the wall by one tick).
+    if (m_timestep > 0.0 && !twist.isZero(0.0)) {
+      Vec6 atTool;
+      atTool << twist.head<3>() + twist.tail<3>().cross(tool.worldFromShellEnd.translation() - m_pose.translation()),
+          twist.tail<3>();
+      sum.wrenchOnTool -= timestep * (k * atTool);
+    }
   }
 
   double penetration(const Rigid& worldFromTool) override {
