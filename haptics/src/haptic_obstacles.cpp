@@ -66,8 +66,7 @@ class ObstaclePair {
                         std::vector<GodObjectContact>& rows) = 0;
   virtual double continuousFraction(const Rigid& start, const Rigid& end, const GodObjectSettings& s,
                                     GodObjectStepResult& out) = 0;
-  virtual void discreteCandidates(const Rigid& worldFromTool, const GodObjectSettings& s,
-                                  GodObjectStepResult& out) = 0;
+  virtual void discreteCandidates(const Rigid& worldFromTool, const GodObjectSettings& s, GodObjectStepResult& out) = 0;
   virtual void appendContacts(const Rigid& worldFromTool, const GodObjectSettings& s,
                               std::vector<GodObjectContact>& next, GodObjectStepResult& out) = 0;
   virtual void penalty(const ShellMotion& tool, double timestep, const ContactQuerySettings& query,
@@ -390,8 +389,12 @@ void ObstacleContacts::moveOver(double time0, double time1) {
   for (auto& p : m_pairs) p->moveOver(time0, time1);
 }
 
-Rigid ObstacleContacts::worldFromObstacle(std::size_t i) const { return m_pairs.at(i)->pose(); }
-std::size_t ObstacleContacts::size() const { return m_pairs.size(); }
+Rigid ObstacleContacts::worldFromObstacle(std::size_t i) const {
+  return m_pairs.at(i)->pose();
+}
+std::size_t ObstacleContacts::size() const {
+  return m_pairs.size();
+}
 
 Rigid ObstacleContacts::push(const Rigid& worldFromTool, const Mat6& mass, const GodObjectSettings& settings,
                              std::vector<GodObjectContact>& contacts, GodObjectStepResult& out) {
@@ -420,9 +423,9 @@ Rigid ObstacleContacts::push(const Rigid& worldFromTool, const Mat6& mass, const
     }
     pose = displacePose(pose, move.move);
   }
-  contacts.erase(std::remove_if(contacts.begin(), contacts.end(),
-                                [](const GodObjectContact& c) { return c.obstacle >= 0; }),
-                 contacts.end());
+  contacts.erase(
+      std::remove_if(contacts.begin(), contacts.end(), [](const GodObjectContact& c) { return c.obstacle >= 0; }),
+      contacts.end());
   appendContacts(pose, settings, contacts, out);
   return pose;
 }

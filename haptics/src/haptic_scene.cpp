@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "haptic_scene_reader.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -19,10 +20,8 @@
 #include "sdfccd/model/mesh_file.h"
 #include "sdfccd/model/model_cache.h"
 #include "sdfccd/shell/point_shell.h"
-#include "haptic_scene_reader.h"
 
 namespace sdfccd::haptics {
-
 
 double CsgPrimitive::signedDistance(const Vec3& p) const {
   if (kind == Kind::Box) {
@@ -226,12 +225,14 @@ SceneField readSceneField(const Reader& r, const Json& obstacle, const std::stri
     if (!obstacle.contains("solids") || !obstacle.at("solids").is_array() || obstacle.at("solids").empty())
       r.fail(Reader::join(at, "solids"), "must be a non-empty array");
     for (const Json& s : obstacle.at("solids")) {
-      csg.solids.push_back(readPrimitive(r, s, Reader::join(at, "solids") + "[" + std::to_string(csg.solids.size()) + "]"));
+      csg.solids.push_back(
+          readPrimitive(r, s, Reader::join(at, "solids") + "[" + std::to_string(csg.solids.size()) + "]"));
     }
     if (obstacle.contains("holes")) {
       if (!obstacle.at("holes").is_array()) r.fail(Reader::join(at, "holes"), "must be an array");
       for (const Json& s : obstacle.at("holes")) {
-        csg.holes.push_back(readPrimitive(r, s, Reader::join(at, "holes") + "[" + std::to_string(csg.holes.size()) + "]"));
+        csg.holes.push_back(
+            readPrimitive(r, s, Reader::join(at, "holes") + "[" + std::to_string(csg.holes.size()) + "]"));
       }
     }
     scene.grid = std::make_shared<const GridField>(sampleCsgObstacle(csg));
@@ -415,8 +416,8 @@ HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettin
   const Reader r(path, detail::SceneFileSearch{std::filesystem::path(path).parent_path().string(), {}, true});
   const Json root = r.parseObject(detail::readSceneText(path));
   r.checkKeys(root,
-              {"name", "description", "obstacle", "obstacles", "shell", "poseFrame", "start", "script", "seconds", "device",
-               "constraint", "penalty", "checks", "guard"},
+              {"name", "description", "obstacle", "obstacles", "shell", "poseFrame", "start", "script", "seconds",
+               "device", "constraint", "penalty", "checks", "guard"},
               "");
   HapticScene scene;
   scene.name = root.contains("name") ? r.string(root, "name", "") : "unnamed";

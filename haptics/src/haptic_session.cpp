@@ -179,8 +179,9 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field* field, O
     out.wrenchOnDevice = wrenchOnDevice;
     out.worldFromSimulation = worldFromSimulation;
     out.contacts = contacts;
-    out.penetration = obstacles ? obstacles->penetration(worldFromSimulation)
-                                : measurePenetration(tree, *field, sdfFromWorld * worldFromSimulation, penetrationScratch);
+    out.penetration = obstacles
+                          ? obstacles->penetration(worldFromSimulation)
+                          : measurePenetration(tree, *field, sdfFromWorld * worldFromSimulation, penetrationScratch);
     log.observe(scene, worldFromSimulation, contacts, out.penetration);
     return out;
   };

@@ -48,8 +48,7 @@ bool nonNegativeLeastSquares(const Mat7X& a, const Vec7& f, Eigen::VectorXd& u, 
         const double zc = z[static_cast<Eigen::Index>(c)];
         if (zc <= 0.0) alpha = std::min(alpha, u[set[c]] / (u[set[c]] - zc));
       }
-      for (std::size_t c = 0; c < set.size(); ++c)
-        u[set[c]] += alpha * (z[static_cast<Eigen::Index>(c)] - u[set[c]]);
+      for (std::size_t c = 0; c < set.size(); ++c) u[set[c]] += alpha * (z[static_cast<Eigen::Index>(c)] - u[set[c]]);
       std::vector<Eigen::Index> kept;
       for (const Eigen::Index j : set) {
         if (u[j] > tolerance) {

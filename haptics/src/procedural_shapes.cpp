@@ -21,7 +21,8 @@ struct MeshBuilder {
   }
   void triangle(int a, int b, int c, const Vec3& outward) {
     const Vec3& pa = mesh.vertices[static_cast<std::size_t>(a)];
-    const Vec3 n = (mesh.vertices[static_cast<std::size_t>(b)] - pa).cross(mesh.vertices[static_cast<std::size_t>(c)] - pa);
+    const Vec3 n =
+        (mesh.vertices[static_cast<std::size_t>(b)] - pa).cross(mesh.vertices[static_cast<std::size_t>(c)] - pa);
     if (n.dot(outward) >= 0.0)
       mesh.triangles.push_back({a, b, c});
     else
@@ -46,7 +47,8 @@ TriangleMesh blockWithHole(const Vec3& halfExtents, double holeRadius, int segme
   // The rectangle's point on the ray at angle t (x = cos, z = sin).
   const auto onRectangle = [&](double t) {
     const double c = std::cos(t), s = std::sin(t);
-    const double scale = std::min(std::abs(c) > 1e-300 ? ax / std::abs(c) : 1e300, std::abs(s) > 1e-300 ? az / std::abs(s) : 1e300);
+    const double scale =
+        std::min(std::abs(c) > 1e-300 ? ax / std::abs(c) : 1e300, std::abs(s) > 1e-300 ? az / std::abs(s) : 1e300);
     return Vec3(c * scale, 0.0, s * scale);
   };
   const double corners[4] = {std::atan2(az, ax), pi - std::atan2(az, ax), pi + std::atan2(az, ax),
@@ -102,7 +104,7 @@ TriangleMesh blockWithHole(const Vec3& halfExtents, double holeRadius, int segme
     const Vec3 mid = 0.5 * (b.mesh.vertices[static_cast<std::size_t>(rimTop[k])] +
                             b.mesh.vertices[static_cast<std::size_t>(rimTop[k1])]);
     const Vec3 outward = std::abs(mid.x()) / ax > std::abs(mid.z()) / az ? Vec3(std::copysign(1.0, mid.x()), 0, 0)
-                                                                        : Vec3(0, 0, std::copysign(1.0, mid.z()));
+                                                                         : Vec3(0, 0, std::copysign(1.0, mid.z()));
     b.quad(rimTop[k], rimTop[k1], rimBottom[k1], rimBottom[k], outward);
   }
   return std::move(b.mesh);

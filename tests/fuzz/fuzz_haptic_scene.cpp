@@ -5,7 +5,8 @@
 /// @details The contract under test: loadHapticScene either returns a usable scene or throws sdfccd::Error.
 /// Any other exception (e.g. a stray nlohmann::json exception), a crash, a leak or undefined behaviour
 /// (ASan + UBSan) is a failure. A returned scene must have exactly one static object (grid or plane) or a list of
-/// obstacles (each exactly one of grid, plane or shell; shells only with the tool's field), a non-empty shell, a finite positive mass, cell size and session length, and finite inertia.
+/// obstacles (each exactly one of grid, plane or shell; shells only with the tool's field), a non-empty shell, a finite
+/// positive mass, cell size and session length, and finite inertia.
 ///
 /// Loading does real work sized by the file (a CSG grid, buildSdf, shell sampling), so inputs that ask for
 /// a lot of it are skipped before loading (worthLoading): they would only time out. Also skipped: string "path"

@@ -72,7 +72,8 @@ std::string loadError(const std::string& text) {
 /// A small scene around `obstacles` (its JSON text) and the tool's `extraShell` keys.
 std::string scene(const std::string& obstacles, const std::string& extraShell = "") {
   return R"({"obstacles": )" + obstacles + R"(, "shell": {"shape": "box", "halfExtents": [0.01, 0.01, 0.01],
-    "points": 40, "iterations": 1)" + extraShell + R"(}, "start": {"position": [0, 0, 0]},
+    "points": 40, "iterations": 1)" +
+         extraShell + R"(}, "start": {"position": [0, 0, 0]},
     "script": [{"t": 0, "position": [0, 0, 0]}]})";
 }
 
@@ -103,7 +104,8 @@ TEST(HapticObstacleScene, ReaderNamesTheBadKey) {
   expectError(scene(R"([{"shell": {"shape": "sphere", "radius": 0.005, "points": 30, "iterations": 1}}])"),
               "obstacles[0].shell");
   expectError(scene(R"([{"shell": {"shape": "block-with-hole", "halfExtents": [0.01, 0.01, 0.01], "holeRadius": 0.02,
-    "points": 30, "iterations": 1}}])", R"(, "field": {"resolution": 8})"),
+    "points": 30, "iterations": 1}}])",
+                    R"(, "field": {"resolution": 8})"),
               "obstacles[0].shell.holeRadius");
   expectError(scene("[]"), "obstacles");
   expectError(scene("[{" + plane + "}]", R"(, "field": {"resolution": 1})"), "shell.field.resolution");

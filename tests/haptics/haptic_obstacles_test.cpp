@@ -69,7 +69,8 @@ GodObjectSettings godSettings() {
 /// The smallest phi over the tool's points against a wall obstacle at the tool's pose (the obstacle at `wallPose`).
 double clearance(const PointTree& tree, const HapticObstacle& w, const Rigid& wallPose, const Rigid& tool) {
   double least = 1e300;
-  for (const Vec3& p : tree.shell().positions) least = std::min(least, w.plane->distance(wallPose.inverse() * (tool * p)));
+  for (const Vec3& p : tree.shell().positions)
+    least = std::min(least, w.plane->distance(wallPose.inverse() * (tool * p)));
   return least;
 }
 
@@ -268,7 +269,8 @@ TEST(HapticObstacles, MovingShellObstacleNeverPenetratesTheConstraintTool) {
   const auto unusedShell = slabTool();
   HapticObstacle ball;
   ball.shell = ballShell();
-  ball.path.keys = UserScript({{0.0, translation(Vec3(-0.03, 0.004, 0.002))}, {0.6, translation(Vec3(0.03, 0.004, 0.002))}});
+  ball.path.keys =
+      UserScript({{0.0, translation(Vec3(-0.03, 0.004, 0.002))}, {0.6, translation(Vec3(0.03, 0.004, 0.002))}});
   ObstacleContacts obstacles({ball}, *unusedShell, field.get());
   GodObject<GridField> god(*unusedShell, obstacles, Rigid::Identity(), godSettings());
   double pushed = 0.0;

@@ -19,12 +19,12 @@ HapticSessionSummary runPeg(const HapticScene& scene, HapticMethod method) {
   const HapticSessionSummary summary = runHapticSession(scene, s).summary;
   EXPECT_EQ(summary.runaway, "");
   EXPECT_EQ(summary.error, "");
-  std::printf("%s %s: inserted %d progress %.5f m, max penetration %.4f cells, contacts max %d mean %.1f, "
-              "blocked %lld stuck %lld failed %lld\n",
-              scene.name.c_str(), toString(method), summary.inserted, summary.insertProgress,
-              summary.maxPenetrationCells, summary.maxContacts, summary.meanContacts,
-              static_cast<long long>(summary.blockedCycles), static_cast<long long>(summary.stuckCycles),
-              static_cast<long long>(summary.failedCycles));
+  std::printf(
+      "%s %s: inserted %d progress %.5f m, max penetration %.4f cells, contacts max %d mean %.1f, "
+      "blocked %lld stuck %lld failed %lld\n",
+      scene.name.c_str(), toString(method), summary.inserted, summary.insertProgress, summary.maxPenetrationCells,
+      summary.maxContacts, summary.meanContacts, static_cast<long long>(summary.blockedCycles),
+      static_cast<long long>(summary.stuckCycles), static_cast<long long>(summary.failedCycles));
   return summary;
 }
 

@@ -160,7 +160,7 @@ class GodObject {
   void updateContacts(GodObjectStepResult& out);
 
   const PointTree& m_tree;
-  const Field* m_field = nullptr;            // null: every contact comes from m_obstacles
+  const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
   ObstacleContacts* m_obstacles = nullptr;  // several obstacles (haptic_obstacles.h)
   double m_obstacleTime = 0.0;              // s
   Rigid m_worldFromSdf;

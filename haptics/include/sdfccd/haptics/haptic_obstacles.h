@@ -62,11 +62,11 @@ struct ObstaclePath {
 /// One obstacle: a field (grid or plane) or a point shell, in its own frame.
 struct HapticObstacle {
   std::string name;
-  std::shared_ptr<const GridField> grid;  ///< a grid field obstacle (CSG or mesh)
-  std::optional<PlaneField> plane;        ///< an analytic plane
-  std::shared_ptr<const PointTree> shell;                 ///< a shell obstacle (against the tool's field)
-  std::shared_ptr<const TriangleMesh> mesh;               ///< the mesh a shell was sampled from (drawing)
-  double cellSize = 0.0;                                  ///< the field's spacing, or a nominal cell (model units)
+  std::shared_ptr<const GridField> grid;     ///< a grid field obstacle (CSG or mesh)
+  std::optional<PlaneField> plane;           ///< an analytic plane
+  std::shared_ptr<const PointTree> shell;    ///< a shell obstacle (against the tool's field)
+  std::shared_ptr<const TriangleMesh> mesh;  ///< the mesh a shell was sampled from (drawing)
+  double cellSize = 0.0;                     ///< the field's spacing, or a nominal cell (model units)
   ObstaclePath path;
 
   bool isShell() const { return shell != nullptr; }
@@ -91,8 +91,7 @@ class ObstacleContacts {
   /// `toolTree`: the tool's shell (body frame, origin at the centre of mass); `toolField`: the tool's field in
   /// the same frame (null: shell obstacles are an error). Throws sdfccd::Error on an obstacle with neither a field
   /// nor a shell, or a shell obstacle without a tool field.
-  ObstacleContacts(const std::vector<HapticObstacle>& obstacles, const PointTree& toolTree,
-                   const GridField* toolField);
+  ObstacleContacts(const std::vector<HapticObstacle>& obstacles, const PointTree& toolTree, const GridField* toolField);
   ~ObstacleContacts();
   ObstacleContacts(const ObstacleContacts&) = delete;
   ObstacleContacts& operator=(const ObstacleContacts&) = delete;
@@ -116,8 +115,8 @@ class ObstacleContacts {
   /// The discrete variant: every point near an obstacle at the pose becomes a candidate.
   void discreteCandidates(const Rigid& worldFromTool, const GodObjectSettings& settings, GodObjectStepResult& out);
   /// Step 6: appends each pair's contacts at the pose (its candidates and its last contacts) to `next`.
-  void appendContacts(const Rigid& worldFromTool, const GodObjectSettings& settings, std::vector<GodObjectContact>& next,
-                      GodObjectStepResult& out);
+  void appendContacts(const Rigid& worldFromTool, const GodObjectSettings& settings,
+                      std::vector<GodObjectContact>& next, GodObjectStepResult& out);
 
   // --- Penalty method (penalty_renderer.h), over the motion set by moveOver(). ---
   /// Every pair's penalty query over the tool's motion; the wrench on the tool and its pose gradient at the end.

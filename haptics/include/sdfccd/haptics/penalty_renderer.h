@@ -103,7 +103,7 @@ class PenaltyRenderer {
   PenaltyStepResult obstacleContacts(const ShellMotion& shell, PenaltyStepResult out);
 
   const PointTree& m_tree;
-  const Field* m_field = nullptr;            // null: every contact comes from m_obstacles
+  const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
   ObstacleContacts* m_obstacles = nullptr;  // several obstacles (haptic_obstacles.h)
   double m_obstacleTime = 0.0;              // s
   ObstaclePenaltySum m_obstacleSum;
