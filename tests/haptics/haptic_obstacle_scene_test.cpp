@@ -3,6 +3,7 @@
 /// scenes load with the paper's roles, and the strict reader rejects bad obstacles with one line naming the key.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -10,6 +11,7 @@
 #include "haptics/haptic_test_scenes.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_scene.h"
+#include "sdfccd/haptics/haptic_session.h"
 #include "sdfccd/haptics/procedural_shapes.h"
 
 namespace sdfccd::haptics {
@@ -111,6 +113,43 @@ TEST(HapticObstacleScene, ReaderNamesTheBadKey) {
   expectError(scene("[{" + plane + "}]", R"(, "field": {"resolution": 1})"), "shell.field.resolution");
   const std::string both = scene("[{" + plane + "}]");
   expectError(R"({"obstacle": {)" + plane + "}, " + both.substr(1), "obstacles");
+}
+
+}  // namespace
+}  // namespace sdfccd::haptics
+
+namespace sdfccd::haptics {
+namespace {
+
+/// The largest x the simulated object reached in a run.
+double farthestX(const HapticSessionResult& r) {
+  double x = -1e300;
+  for (const HapticTickRecord& t : r.ticks) x = std::max(x, t.worldFromSimulation.translation().x());
+  return x;
+}
+
+TEST(HapticObstacleScene, MovingWallSceneRunsWithBothMethods) {
+  const HapticScene scene = loadHapticScene(test::scenePath("moving-wall.json"));
+  ASSERT_EQ(scene.obstacles.size(), 2u);
+  EXPECT_TRUE(scene.obstacles[1].path.moving());
+  HapticSessionSettings s;
+  s.method = HapticMethod::Constraint;
+  const HapticSessionResult constraint = runHapticSession(scene, s);
+  EXPECT_EQ(constraint.summary.error, "");
+  EXPECT_EQ(constraint.summary.runaway, "");
+  EXPECT_EQ(constraint.summary.maxPenetrationCells, 0.0);
+  // Pushed until the wall stops at x = 20 mm: the box's centre 10 mm further, on the wall's contact level set.
+  const double sigma = scene.god.sigma;
+  EXPECT_NEAR(farthestX(constraint), 0.03 + sigma, scene.god.contactThreshold);
+  // The wall went back: the user's spring brings the box back to the origin.
+  EXPECT_NEAR(constraint.summary.finalPosition.x(), 0.0, 0.002);
+  s.method = HapticMethod::Penalty;
+  const HapticSessionResult penalty = runHapticSession(scene, s);
+  EXPECT_EQ(penalty.summary.error, "");
+  EXPECT_EQ(penalty.summary.runaway, "");
+  EXPECT_LT(penalty.summary.maxPenetrationCells, 0.5);
+  EXPECT_NEAR(farthestX(penalty), 0.03, 0.5 * scene.cellSize);
+  EXPECT_NEAR(penalty.summary.finalPosition.x(), 0.0, 0.002);
 }
 
 }  // namespace
