@@ -263,6 +263,70 @@ TEST(HapticObstacles, ShellObstacleAgainstToolFieldMirrorsFieldObstacleAgainstTo
   }
 }
 
+/// The discrete penalty wrench on the tool (a box field) from the ball shell at `worldFromBall`, the tool at `tool`.
+Vec6 ballOnBoxWrench(ObstacleContacts& contacts, const Rigid& tool, ObstaclePenaltySum& sum) {
+  ContactQuerySettings query;
+  query.penalty.stiffness = 200.0;
+  query.penalty.model = PenaltyModel::Discrete;
+  query.discreteMode = CcdMode::FirstHit;
+  contacts.moveOver(0.0, 1e-3);
+  contacts.penalty(ShellMotion::fixed(tool), 1e-3, query, true, sum);
+  return sum.wrenchOnTool;
+}
+
+TEST(HapticObstacles, ShellObstaclePenaltyGradientMatchesFiniteDifferences) {
+  // A ball shell pressed into the top face of the tool's box field (a flat region of the field, where its trilinear
+  // interpolation is exact): the force on each obstacle point follows its own (fixed) normal, so d(wrench on the
+  // tool)/d(tool pose) has no dropped term and must match central differences.
+  const auto field = boxField();
+  HapticObstacle ball;
+  ball.shell = ballShell();
+  ball.path.worldFromObstacle = pose(Vec3(0.0005, 0.0152, -0.0003), Vec3(0.2, 0.1, 0.0));
+  const auto unused = slabTool();
+  ObstacleContacts contacts({ball}, *unused, field.get());
+  const Rigid tool = pose(Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, 0.02));
+  ObstaclePenaltySum at;
+  ballOnBoxWrench(contacts, tool, at);
+  ASSERT_GT(at.contactCount, 3);
+  Mat6 fd;
+  for (int j = 0; j < 6; ++j) {
+    const double step = j < 3 ? 1e-7 : 1e-5;
+    Vec6 dx = Vec6::Zero();
+    dx[j] = step;
+    ObstaclePenaltySum plus, minus;
+    fd.col(j) = (ballOnBoxWrench(contacts, displacePose(tool, dx), plus) -
+                 ballOnBoxWrench(contacts, displacePose(tool, -dx), minus)) /
+                (2 * step);
+    ASSERT_EQ(plus.contactCount, at.contactCount);  // no point crossed the surface
+  }
+  EXPECT_LT((fd - at.gradient).norm(), 1e-4 * at.gradient.norm()) << "fd\n" << fd << "\nanalytic\n" << at.gradient;
+}
+
+TEST(HapticObstacles, RotatingPaddleNeverPenetratesTheConstraintTool) {
+  // A wall hinged 40 mm below the tool swings through 60 degrees in 0.5 s and sweeps the held tool aside: its
+  // surface moves on arcs, so the push's first-order rows are corrected by the second round and the margin sigma.
+  const auto tree = slabTool();
+  HapticObstacle paddle;
+  paddle.plane.emplace(Vec3(1.0, 0.0, 0.0), 0.0);  // solid x < 0 in the paddle's frame
+  paddle.cellSize = 1e-3;
+  const Vec3 hinge(-0.02, -0.04, 0.0);
+  std::vector<PoseKeyframe> keys;
+  for (int k = 0; k <= 10; ++k) {
+    const double angle = -0.5 + 0.1 * k;  // rad about -z: the wall's top swings towards +x
+    keys.push_back({0.05 * k, pose(hinge, Vec3(0.0, 0.0, -angle))});
+  }
+  paddle.path.keys = UserScript(keys);
+  ObstacleContacts obstacles({paddle}, *tree, nullptr);
+  GodObject<GridField> god(*tree, obstacles, Rigid::Identity(), godSettings());
+  for (int cycle = 0; cycle <= 600; ++cycle) {
+    const double t = 1e-3 * cycle;
+    god.setObstacleTime(t);
+    god.step(Rigid::Identity());
+    ASSERT_GE(clearance(*tree, paddle, paddle.path.poseAt(t), god.pose()), 0.0) << "t = " << t;
+  }
+  EXPECT_GT(god.pose().translation().x(), 0.005);  // swept aside
+}
+
 TEST(HapticObstacles, MovingShellObstacleNeverPenetratesTheConstraintTool) {
   // The tool carries a box field; a ball shell sweeps through where the tool starts, pushing it aside.
   const auto field = boxField();

@@ -54,6 +54,10 @@
 /// every side point within 0.07 voxel of the wall) re-queries every point near the wall every cycle although the
 /// god-object barely moves.
 ///
+/// Several obstacles (the ObstacleContacts constructor, haptic_obstacles.h): steps 5 and 6 (and the discrete variant's
+/// candidates) gather from every obstacle's pair instead of the one field, the rows in the same form; a cycle whose
+/// time (setObstacleTime) moved an obstacle starts with its push. The clearance cache is the one field's and is off.
+///
 /// Frames: the shell frame is the god-object's body frame and its origin is the centre of mass.
 /// Defined in god_object.cpp for the field types of field_interface.h.
 /// Thread safety: one GodObject per simulation thread; the tree and the field are only read.

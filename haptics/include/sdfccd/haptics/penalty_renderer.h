@@ -24,7 +24,9 @@
 /// receives is bounded by F_max, so that step stays stable.
 ///
 /// Frames: the shell frame is the simulated object's body frame, its origin the centre of mass; the field is
-/// fixed at worldFromSdf.
+/// fixed at worldFromSdf. With several obstacles (haptic_obstacles.h) step 3 and 4 are every pair's query and
+/// gradient over the tick's relative motion, the wrench fed forward by the obstacles' own motion
+/// (ObstacleContacts::penalty).
 /// Defined in penalty_renderer.cpp for the field types of field_interface.h.
 ///
 /// Thread safety: one renderer per haptic thread; the tree and the field are only read.
