@@ -417,8 +417,8 @@ Rigid ObstacleContacts::push(const Rigid& worldFromTool, const Mat6& mass, const
     }
     if (rows.empty() || gap.minCoeff() >= 0.0) break;
     const LeastDistanceResult move = leastDistanceMove(mass, j, gap);
-    if (!move.feasible) {  // squeezed: no move clears every obstacle; stay (the QP will report it)
-      out.qpState = ContactQpState::Stuck;
+    if (!move.feasible) {  // pinched: no move clears every obstacle; stay
+      out.squeezed = true;
       break;
     }
     pose = displacePose(pose, move.move);

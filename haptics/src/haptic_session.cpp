@@ -212,7 +212,7 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field* field, O
       SimulationOutput out = stepOutput(r.wrenchOnDevice, god.pose(), r.nextContactCount);
       out.qpState = static_cast<int>(r.qpState);
       out.idle = r.fraction * r.constrained.norm() < 1e-9 * scene.cellSize && !movingObstacles;
-      log.stuck += r.qpState == ContactQpState::Stuck;
+      log.stuck += r.qpState == ContactQpState::Stuck || r.squeezed;
       log.failed += r.qpState == ContactQpState::Failed;
       log.blocked += r.blocked;
       return out;

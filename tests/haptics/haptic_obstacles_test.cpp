@@ -350,6 +350,35 @@ TEST(HapticObstacles, MovingShellObstacleNeverPenetratesTheConstraintTool) {
   EXPECT_GT(pushed, 0.005);  // it was pushed, not passed through
 }
 
+TEST(HapticObstacles, WallsClosingInPinchTheGodObjectWithoutNaN) {
+  // The right wall stands at x = 15 mm; the left one closes from -30 mm to -5 mm: the 20 mm tool fits until the
+  // gap is 20 mm + 2 sigma, then no push clears both: squeezed, and the god-object stays finite.
+  const auto tree = slabTool();
+  const std::vector<HapticObstacle> walls = {
+      wall(-1.0, {{0.0, translation(Vec3(-kWall, 0, 0))}, {0.5, translation(Vec3(-0.005, 0, 0))}}),
+      wall(1.0, {}, 0.015)};
+  ObstacleContacts obstacles(walls, *tree, nullptr);
+  const GodObjectSettings s = godSettings();
+  GodObject<GridField> god(*tree, obstacles, Rigid::Identity(), s);
+  bool squeezed = false;
+  double squeezedAt = 1.0;
+  for (int cycle = 0; cycle <= 600; ++cycle) {
+    const double t = 1e-3 * cycle;
+    god.setObstacleTime(t);
+    const GodObjectStepResult r = god.step(Rigid::Identity());
+    ASSERT_TRUE(god.pose().matrix().allFinite());
+    if (r.squeezed && !squeezed) squeezedAt = t;
+    squeezed = squeezed || r.squeezed;
+    if (!squeezed) {  // until pinched: clear of both walls
+      for (const HapticObstacle& w : walls)
+        ASSERT_GE(clearance(*tree, w, w.path.poseAt(t), god.pose()), 0.0) << "t = " << t;
+    }
+  }
+  EXPECT_TRUE(squeezed);
+  // The gap reaches 2 (kHalf + sigma) when the left wall is at 15 mm - 20 mm - 2 sigma: t = (0.025 - 2 sigma) / 0.05.
+  EXPECT_NEAR(squeezedAt, (0.025 - 2 * s.sigma) / 0.05, 2e-3);
+}
+
 TEST(HapticObstacles, LeastDistanceMoveIsTheProjectionOntoTheHalfSpaces) {
   // Unit mass: min |p| subject to p_x <= -0.002 (a wall pushing along -x) and p_y <= 0.001: p = (-0.002, 0, 0).
   Mat6 mass = Mat6::Identity();

@@ -124,6 +124,9 @@ struct GodObjectStepResult {
   int newContacts = 0;                 ///< of those, points that were not in contact before
   double minContactDistance = 0.0;     ///< smallest phi over the next contact set (model units)
   std::int64_t segmentQueries = 0;     ///< CCD work
+  /// Moving obstacles (haptic_obstacles.h): no push clears them all (the tool is pinched between obstacles closing
+  /// in); the god-object stayed where it was before the push.
+  bool squeezed = false;
 };
 /// The god-object of one manipulated shell against one static field.
 template <class Field>

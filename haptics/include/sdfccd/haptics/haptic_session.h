@@ -110,7 +110,7 @@ struct HapticSessionSummary {
   double simCycleCpuP99Ms = 0.0;
   int maxContacts = 0;
   double meanContacts = 0.0;       ///< over simulation cycles
-  std::int64_t stuckCycles = 0;    ///< constraint: cycles whose QP reported Stuck
+  std::int64_t stuckCycles = 0;    ///< constraint: cycles whose QP reported Stuck, or pinched by moving obstacles
   std::int64_t failedCycles = 0;   ///< constraint: cycles whose QP failed
   std::int64_t blockedCycles = 0;  ///< constraint: cycles whose QP optimum was ~0
   int shellPoints = 0;
