@@ -179,7 +179,12 @@ class FieldShellPair final : public ObstaclePair {
       shell.worldFromShellEnd = m_pose;
       shell.velocity = obstacleVelocity;
     }
-    queryContacts(m_tree, m_field, shell, field, timestep, query, m_query);
+    // The renderer's settings, without its per-pair state: a CCD history or friction anchors kept for one (shell,
+    // field) pair must not be handed another pair's query.
+    ContactQuerySettings own = query;
+    own.coherence = nullptr;
+    own.anchors = nullptr;
+    queryContacts(m_tree, m_field, shell, field, timestep, own, m_query);
     sum.segmentQueries += m_query.ccd.stats.segmentQueries;
     const PenaltyResult& p = m_query.penalty;
     Vec6 wrench;
