@@ -212,6 +212,35 @@ RunFolder readHapticRunFolder(const std::string& folder, const std::string& cach
   tool.name = "tool";
   tool.mesh = scene.shellMesh;  // body frame: centred on the centre of mass, as the recorded poses are
   if (!tool.mesh) throw Error(sceneFile + ": the scene keeps no mesh of its tool");
+  if (!scene.obstacles.empty()) {  // several obstacles (haptic_obstacles.h): each at its path's pose per frame
+    run.scene.bodies = {tool};
+    for (const haptics::HapticObstacle& o : scene.obstacles) {
+      RunBody body;
+      body.name = o.name.empty() ? "obstacle " + std::to_string(run.scene.bodies.size()) : o.name;
+      body.isStatic = !o.path.moving();
+      body.mass = 0.0;
+      body.worldFromBody = o.path.poseAt(0.0);
+      if (o.mesh) {
+        body.mesh = o.mesh;
+      } else if (o.grid) {
+        body.mesh = std::make_shared<const TriangleMesh>(haptic_run_detail::insideNodeSurface(o.grid->grid()));
+      } else if (o.plane) {
+        Box3 reach;  // as below: the tool's whole motion plus twice its size
+        const Box3 toolBox = tool.mesh->bounds();
+        for (const std::vector<Rigid>& poses : run.frames.worldFromBody)
+          for (int corner = 0; corner < 8; ++corner)
+            reach.extend(poses[0] * toolBox.corner(static_cast<Box3::CornerType>(corner)));
+        const double side = reach.sizes().maxCoeff() + 2.0 * toolBox.sizes().maxCoeff();
+        body.mesh = std::make_shared<const TriangleMesh>(
+            haptic_run_detail::planeSlab(*o.plane, body.worldFromBody.inverse() * reach.center(), side));
+      }
+      run.scene.bodies.push_back(body);
+    }
+    for (std::size_t f = 0; f < run.frames.times.size(); ++f)
+      for (const haptics::HapticObstacle& o : scene.obstacles)
+        run.frames.worldFromBody[f].push_back(o.path.poseAt(run.frames.times[f]));
+    return run;
+  }
   RunBody obstacle;
   obstacle.name = "obstacle";
   obstacle.isStatic = true;

@@ -19,11 +19,36 @@ template <class Field>
 GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rigid& worldFromSdf,
                             const Rigid& worldFromGodStart, const GodObjectSettings& settings)
     : m_tree(tree),
-      m_field(field),
+      m_field(&field),
       m_worldFromSdf(worldFromSdf),
       m_sdfFromWorld(worldFromSdf.inverse()),
       m_pose(worldFromGodStart),
       m_settings(settings) {
+  if (!worldFromSdf.matrix().allFinite()) throw Error("god object: non-finite pose");
+  initialize(worldFromGodStart);
+  if (settings.clearanceCache) {
+    m_bounds = fieldCullingBounds(field);
+    if constexpr (std::is_same_v<Field, GridField>) m_local = LocalLipschitzBounds(field.grid());
+  }
+}
+
+template <class Field>
+GodObject<Field>::GodObject(const PointTree& tree, ObstacleContacts& obstacles, const Rigid& worldFromGodStart,
+                            const GodObjectSettings& settings)
+    : m_tree(tree),
+      m_obstacles(&obstacles),
+      m_worldFromSdf(Rigid::Identity()),
+      m_sdfFromWorld(Rigid::Identity()),
+      m_pose(worldFromGodStart),
+      m_settings(settings) {
+  m_settings.clearanceCache = false;  // the cache is the own field's (the obstacles' pairs query every point)
+  initialize(worldFromGodStart);
+}
+
+template <class Field>
+void GodObject<Field>::initialize(const Rigid& worldFromGodStart) {
+  const GodObjectSettings& settings = m_settings;
+  const PointTree& tree = m_tree;
   const auto finitePositive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (!finitePositive(settings.couplingGain) || settings.couplingGain > 1.0)
     throw Error("god object: couplingGain must be in (0, 1]");
@@ -40,14 +65,11 @@ GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rig
     throw Error("god object: need 0 <= sigma, 0 <= contactThreshold, slideFloor <= sigma (finite)");
   if (!(settings.maxStepTranslation >= 0.0) || !(settings.maxStepRotation >= 0.0))
     throw Error("god object: step limits must be >= 0");
-  if (!worldFromGodStart.matrix().allFinite() || !worldFromSdf.matrix().allFinite())
-    throw Error("god object: non-finite pose");
+  if (!worldFromGodStart.matrix().allFinite()) throw Error("god object: non-finite pose");
   m_inContact.assign(static_cast<std::size_t>(tree.pointCount()), 0);
   m_notInContact.assign(static_cast<std::size_t>(tree.pointCount()), 1);
   if (settings.clearanceCache) {
     const std::size_t n = static_cast<std::size_t>(tree.pointCount());
-    m_bounds = fieldCullingBounds(field);
-    if constexpr (std::is_same_v<Field, GridField>) m_local = LocalLipschitzBounds(field.grid());
     m_skip.assign(n, 0);
     m_clearanceBudget.assign(n, -std::numeric_limits<float>::infinity());  // unknown: evaluate first
     m_pointRadius.resize(n);
@@ -69,6 +91,7 @@ GodObjectStepResult GodObject<Field>::step(const Rigid& worldFromDevice) {
     out.contactCount = out.nextContactCount = static_cast<int>(m_contacts.size());
     return out;
   }
+  pushByObstacles(out);
   const double ks = m_settings.couplingGain;
   out.unconstrained = ks * poseDifference(m_pose, worldFromDevice);
   // Depth correction: contacts that drifted below sigma (second-order effects of rotation and curvature,
@@ -115,7 +138,8 @@ GodObjectStepResult GodObject<Field>::step(const Rigid& worldFromDevice) {
   const Rigid tentative = displacePose(m_pose, move);
 
   m_candidates.clear();
-  for (const GodObjectContact& c : m_contacts) m_candidates.push_back(c.point);
+  for (const GodObjectContact& c : m_contacts)
+    if (c.obstacle < 0) m_candidates.push_back(c.point);
   if (m_settings.continuous) {
     out.fraction = continuousFraction(tentative, out);
     m_pose = out.fraction >= 1.0 ? tentative : displacePose(m_pose, out.fraction * move);
@@ -130,6 +154,7 @@ GodObjectStepResult GodObject<Field>::step(const Rigid& worldFromDevice) {
 // Step 5: the earliest contact fraction of the move; collects the reported points as candidates.
 template <class Field>
 double GodObject<Field>::continuousFraction(const Rigid& tentative, GodObjectStepResult& out) {
+  if (m_obstacles) return m_obstacles->continuousFraction(m_pose, tentative, m_settings, out);
   const Rigid start = m_sdfFromWorld * m_pose;
   const Rigid end = m_sdfFromWorld * tentative;
   RigidCcdSettings ccd;
@@ -144,7 +169,7 @@ double GodObject<Field>::continuousFraction(const Rigid& tentative, GodObjectSte
     ccd.ignoredPoints = &m_skip;
     ccd.useTree = false;  // the few points left are visited one by one (the same leaf query as the tree's)
   }
-  rigidCcd(m_tree, m_field, start, end, ccd, m_ccd);
+  rigidCcd(m_tree, *m_field, start, end, ccd, m_ccd);
   out.segmentQueries += m_ccd.stats.segmentQueries;
   double fraction = 1.0;
   for (const PointContact& c : m_ccd.contacts) {
@@ -158,7 +183,7 @@ double GodObject<Field>::continuousFraction(const Rigid& tentative, GodObjectSte
     ccd.ignoredPoints = &m_notInContact;
     // Few contacts: visiting them point by point beats re-testing every inner node of the tree.
     ccd.useTree = m_contacts.size() * 16 > static_cast<std::size_t>(m_tree.pointCount());
-    rigidCcd(m_tree, m_field, start, end, ccd, m_ccd);
+    rigidCcd(m_tree, *m_field, start, end, ccd, m_ccd);
     out.segmentQueries += m_ccd.stats.segmentQueries;
     SegmentCcdSettings sink;
     sink.mode = CcdMode::FirstHit;
@@ -173,8 +198,8 @@ double GodObject<Field>::continuousFraction(const Rigid& tentative, GodObjectSte
         const Vec3& x = m_tree.shell().positions[static_cast<std::size_t>(c.point)];
         const Vec3 p0 = start * x;
         const Vec3 p1 = end * x;
-        sink.sigma = std::min(m_field.distance(p0), m_settings.slideFloor) - m_settings.sinkTolerance;
-        m_field.intersectSegment(p0, p1, sink, m_segment);
+        sink.sigma = std::min(m_field->distance(p0), m_settings.slideFloor) - m_settings.sinkTolerance;
+        m_field->intersectSegment(p0, p1, sink, m_segment);
         ++out.segmentQueries;
         if (m_segment.state == SegmentState::Hit) fraction = std::min(fraction, m_segment.fraction);
       }
@@ -217,7 +242,7 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
       // boundaryMin plays the part of phi.
       const double phi = m_bounds.bounded && !m_bounds.box.contains(pointInSdf)
                              ? m_bounds.lipschitz * m_bounds.box.exteriorDistance(pointInSdf) + m_bounds.boundaryMin
-                             : m_field.distance(pointInSdf);
+                             : m_field->distance(pointInSdf);
       // A relative margin against the different rounding of the segment query's own evaluation of phi.
       const double clearance =
           phi - m_settings.sigma - tolerance::kRelativeSlack * (std::abs(phi) + std::abs(m_settings.sigma));
@@ -233,19 +258,24 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
     }
   }
   if (ignoreContacts)
-    for (const GodObjectContact& c : m_contacts) m_skip[static_cast<std::size_t>(c.point)] = 1;
+    for (const GodObjectContact& c : m_contacts)
+      if (c.obstacle < 0) m_skip[static_cast<std::size_t>(c.point)] = 1;
 }
 
 // The discrete variant: every point near the surface at the new pose.
 template <class Field>
 void GodObject<Field>::discreteCandidates(GodObjectStepResult& out) {
+  if (m_obstacles) {
+    m_obstacles->discreteCandidates(m_pose, m_settings, out);
+    return;
+  }
   const Rigid at = m_sdfFromWorld * m_pose;
   RigidCcdSettings ccd;
   ccd.sigma = m_settings.sigma + m_settings.contactThreshold;
   ccd.mode = CcdMode::FirstHit;
   ccd.octree = m_settings.octree;
   ccd.threads = m_settings.threads;
-  rigidCcd(m_tree, m_field, at, at, ccd, m_ccd);
+  rigidCcd(m_tree, *m_field, at, at, ccd, m_ccd);
   out.segmentQueries += m_ccd.stats.segmentQueries;
   for (const PointContact& c : m_ccd.contacts) m_candidates.push_back(c.point);
 }
@@ -253,6 +283,18 @@ void GodObject<Field>::discreteCandidates(GodObjectStepResult& out) {
 // Step 6: the contact set at the new pose.
 template <class Field>
 void GodObject<Field>::updateContacts(GodObjectStepResult& out) {
+  if (m_obstacles) {  // every contact is an obstacle's
+    m_next.clear();
+    out.newContacts = 0;
+    m_obstacles->appendContacts(m_pose, m_settings, m_next, out);
+    m_contacts.swap(m_next);
+    out.minContactDistance = 0.0;
+    for (std::size_t k = 0; k < m_contacts.size(); ++k)
+      out.minContactDistance =
+          k == 0 ? m_contacts[k].distance : std::min(out.minContactDistance, m_contacts[k].distance);
+    out.nextContactCount = static_cast<int>(m_contacts.size());
+    return;
+  }
   std::sort(m_candidates.begin(), m_candidates.end());
   m_candidates.erase(std::unique(m_candidates.begin(), m_candidates.end()), m_candidates.end());
   const Rigid sdfFromGod = m_sdfFromWorld * m_pose;
@@ -264,9 +306,9 @@ void GodObject<Field>::updateContacts(GodObjectStepResult& out) {
   for (const int p : m_candidates) {
     const Vec3& pointInShell = m_tree.shell().positions[static_cast<std::size_t>(p)];
     const Vec3 pointInSdf = sdfFromGod * pointInShell;
-    const double phi = m_field.distance(pointInSdf);
+    const double phi = m_field->distance(pointInSdf);
     if (!(phi - m_settings.sigma <= m_settings.contactThreshold)) continue;
-    const Vec3 gradient = m_field.gradient(pointInSdf);
+    const Vec3 gradient = m_field->gradient(pointInSdf);
     const double len = gradient.norm();
     if (!(len > tolerance::kMinDirectionLength) || !std::isfinite(len))
       continue;  // no direction (medial point): no constraint
@@ -290,6 +332,15 @@ void GodObject<Field>::updateContacts(GodObjectStepResult& out) {
     m_notInContact[static_cast<std::size_t>(c.point)] = 0;
   }
   out.nextContactCount = static_cast<int>(m_contacts.size());
+}
+
+// Moving obstacles (haptic_obstacles.h): they jump to their pose at the cycle's time and push the god-object out
+// of their way before the usual cycle runs against them held there.
+template <class Field>
+void GodObject<Field>::pushByObstacles(GodObjectStepResult& out) {
+  if (!m_obstacles || !m_obstacles->moveTo(m_obstacleTime)) return;
+  const Mat6 mass = massMatrix(m_settings.mass, worldInertia(m_pose, m_settings.inertiaDiagonal));
+  m_pose = m_obstacles->push(m_pose, mass, m_settings, m_contacts, out);
 }
 
 #define SDFCCD_INSTANTIATE_GOD_OBJECT(Field) template class GodObject<Field>;

@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <string>
 
+#include "haptic_scene_reader.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -20,9 +22,6 @@
 #include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd::haptics {
-
-using detail::Json;
-using Reader = detail::JsonReader;
 
 double CsgPrimitive::signedDistance(const Vec3& p) const {
   switch (kind) {
@@ -135,12 +134,16 @@ Vec3 unitAxis(const Reader& r, const Json& j, const std::string& key, const std:
   return v.normalized();
 }
 
+}  // namespace
+
 Rigid readPose(const Reader& r, const Json& j, const std::string& where) {
   Rigid pose = Rigid::Identity();
   pose.translation() = r.vec3(j, "position", where, Vec3::Zero(), /*required=*/true);
   pose.linear() = rotationFromVector(r.vec3(j, "rotationVector", where, Vec3::Zero()));
   return pose;
 }
+
+namespace {
 
 CsgPrimitive readPrimitive(const Reader& r, const Json& j, const std::string& where) {
   r.checkObject(j, where);
@@ -208,8 +211,8 @@ TriangleMesh proceduralMesh(const Reader& r, const Json& j, const std::string& w
   return mesh;
 }
 
-/// The exact field of a mesh obstacle: buildSdf, or the model cache's copy keyed by the mesh's vertices and
-/// triangles and the build parameters.
+}  // namespace
+
 std::shared_ptr<const SdfGrid> meshObstacleGrid(const TriangleMesh& mesh, const SdfBuildSettings& build,
                                                 const std::string& cacheDir, const std::string& name) {
   constexpr int kCacheVersion = 2;  // 2: self-intersecting meshes signed by winding number
@@ -221,18 +224,21 @@ std::shared_ptr<const SdfGrid> meshObstacleGrid(const TriangleMesh& mesh, const 
   return ModelCache(cacheDir).field(name, key, [&] { return buildSdf(mesh, build).grid; });
 }
 
-void readObstacle(const Reader& r, const Json& root, const std::string& cacheDir, HapticScene& scene) {
-  const Json& obstacle = r.object(root, "obstacle", "");
-  r.checkKeys(obstacle, {"plane", "mesh", "spacing", "paddingCells", "offsetCells", "solids", "holes"}, "obstacle");
+SceneField readSceneField(const Reader& r, const Json& obstacle, const std::string& at, const std::string& cacheDir,
+                          const std::vector<std::string>& extraKeys) {
+  std::set<std::string> keys = {"plane", "mesh", "spacing", "paddingCells", "offsetCells", "solids", "holes"};
+  keys.insert(extraKeys.begin(), extraKeys.end());
+  r.checkKeys(obstacle, keys, at);
+  SceneField scene;
   if (obstacle.contains("plane")) {
-    const std::string where = "obstacle.plane";
-    const Json& p = r.object(obstacle, "plane", "obstacle");
+    const std::string where = Reader::join(at, "plane");
+    const Json& p = r.object(obstacle, "plane", at);
     r.checkKeys(p, {"normal", "offset", "cellSize"}, where);
     scene.plane.emplace(unitAxis(r, p, "normal", where), r.number(p, "offset", where, 0.0));
     scene.cellSize = r.positive(p, "cellSize", where, 1e-3);
   } else if (obstacle.contains("mesh")) {
-    const std::string where = "obstacle.mesh";
-    const Json& m = r.object(obstacle, "mesh", "obstacle");
+    const std::string where = Reader::join(at, "mesh");
+    const Json& m = r.object(obstacle, "mesh", at);
     r.checkKeys(m, {"path", "procedural", "size", "scale", "resolution", "padding", "offsetCells"}, where);
     std::string meshName;
     TriangleMesh mesh;
@@ -260,39 +266,45 @@ void readObstacle(const Reader& r, const Json& root, const std::string& cacheDir
     scene.grid = std::make_shared<const GridField>(grid);
   } else {
     CsgObstacle csg;
-    csg.spacing = r.positive(obstacle, "spacing", "obstacle", 0.0, true);
-    csg.paddingCells = r.integer(obstacle, "paddingCells", "obstacle", 3, 0, 1000);
-    csg.offsetCells = r.number(obstacle, "offsetCells", "obstacle", 0.0);
+    csg.spacing = r.positive(obstacle, "spacing", at, 0.0, true);
+    csg.paddingCells = r.integer(obstacle, "paddingCells", at, 3, 0, 1000);
+    csg.offsetCells = r.number(obstacle, "offsetCells", at, 0.0);
     if (!obstacle.contains("solids") || !obstacle.at("solids").is_array() || obstacle.at("solids").empty())
-      r.fail("obstacle.solids", "must be a non-empty array");
+      r.fail(Reader::join(at, "solids"), "must be a non-empty array");
     for (const Json& s : obstacle.at("solids")) {
-      csg.solids.push_back(readPrimitive(r, s, "obstacle.solids[" + std::to_string(csg.solids.size()) + "]"));
+      csg.solids.push_back(
+          readPrimitive(r, s, Reader::join(at, "solids") + "[" + std::to_string(csg.solids.size()) + "]"));
     }
     if (obstacle.contains("holes")) {
-      if (!obstacle.at("holes").is_array()) r.fail("obstacle.holes", "must be an array");
+      if (!obstacle.at("holes").is_array()) r.fail(Reader::join(at, "holes"), "must be an array");
       for (const Json& s : obstacle.at("holes")) {
-        csg.holes.push_back(readPrimitive(r, s, "obstacle.holes[" + std::to_string(csg.holes.size()) + "]"));
+        csg.holes.push_back(
+            readPrimitive(r, s, Reader::join(at, "holes") + "[" + std::to_string(csg.holes.size()) + "]"));
       }
     }
     scene.grid = std::make_shared<const GridField>(sampleCsgObstacle(csg));
     scene.cellSize = csg.spacing;
   }
+  return scene;
 }
 
-/// The manipulated object: its mesh moved onto its centre of mass, mass properties and shell. Returns the centre
-/// of mass in the mesh's own frame.
-Vec3 readShell(const Reader& r, const Json& root, HapticScene& scene) {
-  const std::string where = "shell";
-  const Json& shellJson = r.object(root, "shell", "");
-  r.checkKeys(shellJson,
-              {"shape", "halfExtents", "radius", "height", "segments", "subdivisions", "path", "size", "scale", "mass",
-               "points", "iterations"},
-              where);
+namespace {
+
+void readObstacle(const Reader& r, const Json& root, const std::string& cacheDir, HapticScene& scene) {
+  SceneField field = readSceneField(r, r.object(root, "obstacle", ""), "obstacle", cacheDir, {});
+  scene.grid = std::move(field.grid);
+  scene.plane = field.plane;
+  scene.cellSize = field.cellSize;
+}
+
+}  // namespace
+
+TriangleMesh readShellMesh(const Reader& r, const Json& shellJson, const std::string& where) {
   const std::string shape = r.string(shellJson, "shape", where);
   TriangleMesh mesh;
   if (shape == "box") {
     const Vec3 half = r.vec3(shellJson, "halfExtents", where, Vec3::Zero(), true);
-    if (!(half.minCoeff() > 0.0)) r.fail("shell.halfExtents", "must be > 0");
+    if (!(half.minCoeff() > 0.0)) r.fail(Reader::join(where, "halfExtents"), "must be > 0");
     mesh = makeBox(half);
   } else if (shape == "cylinder") {
     mesh = makeCylinder(r.positive(shellJson, "radius", where, 0.0, true),
@@ -305,9 +317,26 @@ Vec3 readShell(const Reader& r, const Json& root, HapticScene& scene) {
     mesh = sceneMesh(r, shellJson, where);
   } else if (shape == "alpha-puzzle-piece") {
     mesh = proceduralMesh(r, shellJson, where, "shape", shape);
+  } else if (shape == "block-with-hole") {
+    mesh = blockWithHoleMesh(r, shellJson, where);
   } else {
-    r.fail("shell.shape", "must be box, cylinder, sphere, mesh or alpha-puzzle-piece");
+    r.fail(Reader::join(where, "shape"), "must be box, cylinder, sphere, mesh, alpha-puzzle-piece or block-with-hole");
   }
+  return mesh;
+}
+
+namespace {
+
+/// The manipulated object: its mesh moved onto its centre of mass, mass properties and shell. Returns the centre
+/// of mass in the mesh's own frame.
+Vec3 readShell(const Reader& r, const Json& root, const std::string& cacheDir, HapticScene& scene) {
+  const std::string where = "shell";
+  const Json& shellJson = r.object(root, "shell", "");
+  r.checkKeys(shellJson,
+              {"shape", "halfExtents", "radius", "height", "segments", "subdivisions", "path", "size", "scale", "mass",
+               "points", "iterations", "field", "holeRadius"},
+              where);
+  TriangleMesh mesh = readShellMesh(r, shellJson, where);
   Vec3 centerOfMassInMesh = Vec3::Zero();
   MassPropertiesSettings massSettings;
   massSettings.mass = r.positive(shellJson, "mass", where, 0.05);
@@ -334,6 +363,7 @@ Vec3 readShell(const Reader& r, const Json& root, HapticScene& scene) {
   scene.tree = std::make_shared<const PointTree>(sampleShell(mesh, sampling));
   scene.shellIterations = sampling.iterations;
   scene.shellMesh = std::make_shared<const TriangleMesh>(mesh);
+  if (shellJson.contains("field")) scene.toolField = readToolField(r, shellJson, where, mesh, cacheDir);
   return centerOfMassInMesh;
 }
 
@@ -433,15 +463,21 @@ HapticScene loadHapticScene(const std::string& path, const HapticSceneLoadSettin
   const Reader r(path, detail::SceneFileSearch{std::filesystem::path(path).parent_path().string(), {}, true});
   const Json root = r.parseObject(detail::readSceneText(path));
   r.checkKeys(root,
-              {"name", "description", "obstacle", "shell", "poseFrame", "start", "script", "seconds", "device",
-               "constraint", "penalty", "checks", "guard"},
+              {"name", "description", "obstacle", "obstacles", "shell", "poseFrame", "start", "script", "seconds",
+               "device", "constraint", "penalty", "checks", "guard"},
               "");
   HapticScene scene;
   scene.name = root.contains("name") ? r.string(root, "name", "") : "unnamed";
   scene.description = r.string(root, "description", "");
 
-  readObstacle(r, root, loadSettings.cacheDir, scene);
-  const Vec3 centerOfMassInMesh = readShell(r, root, scene);
+  if (root.contains("obstacle") == root.contains("obstacles"))
+    r.fail("obstacles", "give either \"obstacle\" (one static field) or \"obstacles\" (a list)");
+  const Vec3 centerOfMassInMesh = readShell(r, root, loadSettings.cacheDir, scene);
+  if (root.contains("obstacle")) {
+    readObstacle(r, root, loadSettings.cacheDir, scene);
+  } else {
+    readObstacles(r, root, loadSettings.cacheDir, scene);
+  }
   // Poses in the file place the body's centre of mass ("poseFrame": "body", the default) or the shell mesh's own
   // frame before centring ("mesh": e.g. a procedural piece placed in its generator's frame).
   const std::string poseFrame = root.contains("poseFrame") ? r.string(root, "poseFrame", "") : "body";

@@ -6,19 +6,15 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <iomanip>
-#include <limits>
+#include <memory>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/latest_value.h"
 #include "sdfccd/haptics/two_loop_runner.h"
-#include "sdfccd/model/runaway_guard.h"
-#include "sdfccd/output_file.h"
 #include "sdfccd/thread_cpu_time.h"
+#include "session_guard.h"
 
 namespace sdfccd::haptics {
 
@@ -99,104 +95,11 @@ struct SimulationLog {
   }
 };
 
-/// The fastest the scripted target moves (m/s): the largest distance between consecutive keys over their time.
-double peakScriptSpeed(const UserScript& script) {
-  double peak = 0.0;
-  const std::vector<PoseKeyframe>& keys = script.keys();
-  for (std::size_t i = 1; i < keys.size(); ++i) {
-    const double dt = keys[i].time - keys[i - 1].time;
-    const double d = (keys[i].worldFromTarget.translation() - keys[i - 1].worldFromTarget.translation()).norm();
-    if (dt > 0.0) peak = std::max(peak, d / dt);
-  }
-  return peak;
-}
-
-/// A haptic scene as the runaway guard (sdfccd/model/runaway_guard.h) sees it: the simulated object, dynamic and at
-/// rest at its start pose, and the user's hand as a kinematic body moving at the script's peak speed, so the guard
-/// grants the object what a moving wall may give a body (twice the wall's speed). No gravity: haptic scenes have
-/// none; the device's own force limit bounds the rest.
-Scene guardScene(const HapticScene& scene) {
-  Scene g;
-  g.name = scene.name;
-  g.guard = scene.guard;
-  SceneBody object;
-  object.name = "simulated object";
-  object.mass = scene.mass;
-  object.position = scene.worldFromBodyStart.translation();
-  SceneBody hand;
-  hand.name = "hand";
-  hand.kinematic = true;
-  hand.position = object.position;
-  hand.velocity = Vec3(peakScriptSpeed(scene.script), 0.0, 0.0);
-  g.bodies = {object, hand};
-  return g;
-}
-
-/// The runaway watchdog of a session (issue 14): checks the simulated object's state on every haptic tick. On a
-/// violation with action "stop" the tick renders zero force and the loop stops; with "report" the first violation
-/// is kept and the session goes on. Used by the haptic loop's thread only.
-class SessionGuard {
- public:
-  explicit SessionGuard(const HapticScene& scene)
-      : m_guard(guardScene(scene), 0.0),
-        m_action(scene.guard.action),
-        m_mass(scene.mass),
-        m_inertiaDiagonal(scene.inertiaDiagonal),
-        m_tick(1.0 / scene.device.rateHz),
-        m_lastPose(scene.worldFromBodyStart) {}
-
-  /// A body with velocities (the penalty renderer's object). True: stop the loop now.
-  bool observeState(double time, const RigidBodyState& state) {
-    return check(time, state.worldFromBody, state.linearVelocity, state.angularVelocity);
-  }
-
-  /// A quasi-static pose (the god-object): its velocity is the displacement since the pose last changed over the
-  /// time since then (at least one tick), so a simulation loop that lags and then catches up is not a runaway.
-  bool observePose(double time, const Rigid& pose) {
-    Vec6 velocity = Vec6::Zero();
-    if (!pose.isApprox(m_lastPose, 0.0)) {
-      velocity = poseDifference(m_lastPose, pose) / std::max(m_tick, time - m_lastChange);
-      m_lastPose = pose;
-      m_lastChange = time;
-    }
-    return check(time, pose, velocity.head<3>(), velocity.tail<3>());
-  }
-
-  bool stopped() const { return m_stopped; }
-  const std::string& violation() const { return m_violation; }  ///< the first one; "" if none
-
- private:
-  bool check(double time, const Rigid& pose, const Vec3& velocity, const Vec3& angularVelocity) {
-    if (m_action == GuardAction::Off || !m_violation.empty()) return m_stopped;
-    GuardBodyState object{pose.translation(), velocity};
-    GuardBodyState hand;  // the kinematic body is not checked
-    double energy = 0.5 * m_mass * velocity.squaredNorm();
-    if (pose.matrix().allFinite() && angularVelocity.allFinite()) {
-      energy += 0.5 * angularVelocity.dot(worldInertia(pose, m_inertiaDiagonal) * angularVelocity);
-    } else {
-      object.position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  // reported as non-finite
-    }
-    const std::optional<std::string> v = m_guard.check(time, {object, hand}, energy);
-    if (!v) return false;
-    m_violation = *v;
-    m_stopped = m_action == GuardAction::Stop;
-    return m_stopped;
-  }
-
-  RunawayGuard m_guard;
-  GuardAction m_action;
-  double m_mass;
-  Vec3 m_inertiaDiagonal;
-  double m_tick;  ///< s
-  Rigid m_lastPose;
-  double m_lastChange = 0.0;  ///< s
-  bool m_stopped = false;
-  std::string m_violation;
-};
-
+/// The session against one static field (`field`), or against the scene's obstacles (`obstacles` set; `Field` then
+/// unused).
 template <class Field>
-HapticSessionResult runWithField(const HapticScene& scene, const Field& field, const HapticSessionSettings& settings,
-                                 HapticDevice* externalDevice) {
+HapticSessionResult runWithField(const HapticScene& scene, const Field* field, ObstacleContacts* obstacles,
+                                 const HapticSessionSettings& settings, HapticDevice* externalDevice) {
   const double seconds = settings.seconds > 0.0 ? settings.seconds : scene.seconds;
   if (!(seconds > 0.0) || !std::isfinite(seconds) || seconds > 3600.0)
     throw Error("session: seconds must be in (0, 3600]");
@@ -255,6 +158,9 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
   };
 
   const Rigid sdfFromWorld = scene.worldFromSdf.inverse();
+  // A moving obstacle keeps the simulation busy even while the device and the god-object are still.
+  const bool movingObstacles = std::any_of(scene.obstacles.begin(), scene.obstacles.end(),
+                                           [](const HapticObstacle& o) { return o.path.moving(); });
   // One simulation step, `step()`, with its thread CPU time and wall time (ms) logged; returns its result.
   const auto timedStep = [&](const auto& step) {
     const double cpu0 = threadCpuSeconds();
@@ -273,7 +179,9 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     out.wrenchOnDevice = wrenchOnDevice;
     out.worldFromSimulation = worldFromSimulation;
     out.contacts = contacts;
-    out.penetration = measurePenetration(tree, field, sdfFromWorld * worldFromSimulation, penetrationScratch);
+    out.penetration = obstacles
+                          ? obstacles->penetration(worldFromSimulation)
+                          : measurePenetration(tree, *field, sdfFromWorld * worldFromSimulation, penetrationScratch);
     log.observe(scene, worldFromSimulation, contacts, out.penetration);
     return out;
   };
@@ -291,14 +199,20 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
     GodObjectSettings godSettings = scene.god;
     godSettings.continuous = settings.method == HapticMethod::Constraint;
     godSettings.threads = settings.ccdThreads;
-    GodObject<Field> god(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, godSettings);
+    std::optional<GodObject<Field>> godSlot;
+    if (obstacles)
+      godSlot.emplace(tree, *obstacles, scene.worldFromBodyStart, godSettings);
+    else
+      godSlot.emplace(tree, *field, scene.worldFromSdf, scene.worldFromBodyStart, godSettings);
+    GodObject<Field>& god = *godSlot;
     // One simulation cycle: the timed QP + CCD, then the (untimed) penetration measurement.
-    const auto cycle = [&](const Rigid& worldFromDevice) {
+    const auto cycle = [&](const Rigid& worldFromDevice, double time) {
+      god.setObstacleTime(time);
       const GodObjectStepResult r = timedStep([&] { return god.step(worldFromDevice); });
       SimulationOutput out = stepOutput(r.wrenchOnDevice, god.pose(), r.nextContactCount);
       out.qpState = static_cast<int>(r.qpState);
-      out.idle = r.fraction * r.constrained.norm() < 1e-9 * scene.cellSize;
-      log.stuck += r.qpState == ContactQpState::Stuck;
+      out.idle = r.fraction * r.constrained.norm() < 1e-9 * scene.cellSize && !movingObstacles;
+      log.stuck += r.qpState == ContactQpState::Stuck || r.squeezed;
       log.failed += r.qpState == ContactQpState::Failed;
       log.blocked += r.blocked;
       return out;
@@ -310,7 +224,7 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
       if (settings.faultInjection.simulationCycle >= 0 &&
           static_cast<std::int64_t>(log.cycleMs.size()) >= settings.faultInjection.simulationCycle)
         throw Error("injected fault at simulation cycle " + std::to_string(log.cycleMs.size()));
-      const SimulationOutput out = cycle(state.body.worldFromBody);
+      const SimulationOutput out = cycle(state.body.worldFromBody, state.time);
       simulationOutput.publish(out);
       return !out.idle;
     };
@@ -326,11 +240,17 @@ HapticSessionResult runWithField(const HapticScene& scene, const Field& field, c
         settings.method == HapticMethod::Penalty ? PenaltyModel::Continuous : PenaltyModel::Discrete;
     penaltySettings.timestep = 1.0 / scene.device.rateHz;
     penaltySettings.threads = settings.ccdThreads;
-    PenaltyRenderer<Field> renderer(tree, field, scene.worldFromSdf, scene.worldFromBodyStart, penaltySettings);
+    std::optional<PenaltyRenderer<Field>> rendererSlot;
+    if (obstacles)
+      rendererSlot.emplace(tree, *obstacles, scene.worldFromBodyStart, penaltySettings);
+    else
+      rendererSlot.emplace(tree, *field, scene.worldFromSdf, scene.worldFromBodyStart, penaltySettings);
+    PenaltyRenderer<Field>& renderer = *rendererSlot;
     // The penalty step runs in the haptic loop itself (one step per tick).
     loops = runner.run(nullptr, [&](const DeviceState& state) {
       if (settings.faultInjection.hapticTick >= 0 && state.tick >= settings.faultInjection.hapticTick)
         throw Error("injected fault at haptic tick " + std::to_string(state.tick));
+      renderer.setObstacleTime(state.time);
       const PenaltyStepResult r = timedStep([&] { return renderer.step(state.body); });
       const SimulationOutput sim = stepOutput(r.wrenchOnDevice, renderer.state().worldFromBody, r.contactCount);
       return guarded(state, sim, guard.observeState(state.time, renderer.state()));
@@ -383,9 +303,13 @@ namespace {
 
 HapticSessionResult runOn(const HapticScene& scene, const HapticSessionSettings& settings, HapticDevice* device) {
   if (!scene.tree) throw Error("session: the scene has no shell");
-  if (scene.plane) return runWithField(scene, *scene.plane, settings, device);
+  if (!scene.obstacles.empty()) {
+    ObstacleContacts obstacles(scene.obstacles, *scene.tree, scene.toolField.get());
+    return runWithField<GridField>(scene, nullptr, &obstacles, settings, device);
+  }
+  if (scene.plane) return runWithField(scene, &*scene.plane, nullptr, settings, device);
   if (!scene.grid) throw Error("session: the scene has no static object");
-  return runWithField(scene, *scene.grid, settings, device);
+  return runWithField(scene, scene.grid.get(), nullptr, settings, device);
 }
 
 }  // namespace
@@ -399,106 +323,6 @@ HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessi
   if (std::abs(device.rateHz() - scene.device.rateHz) > 1e-9 * scene.device.rateHz)
     throw Error("session: the device's rate differs from the scene's device rate");
   return runOn(scene, settings, &device);
-}
-
-void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks) {
-  OutputFile file(path);
-  std::ostream& out = file.stream();
-  out << "tick,time,device_x,device_y,device_z,device_qw,device_qx,device_qy,device_qz,"
-         "sim_x,sim_y,sim_z,sim_qw,sim_qx,sim_qy,sim_qz,force_x,force_y,force_z,torque_x,torque_y,torque_z,"
-         "contacts,penetration,qp_state,sim_cycle_ms\n";
-  out << std::setprecision(9);
-  const auto pose = [&](const Rigid& r) {
-    const Quat q(r.linear());
-    out << r.translation().x() << ',' << r.translation().y() << ',' << r.translation().z() << ',' << q.w() << ','
-        << q.x() << ',' << q.y() << ',' << q.z() << ',';
-  };
-  for (const HapticTickRecord& t : ticks) {
-    out << t.tick << ',' << t.time << ',';
-    pose(t.worldFromDevice);
-    pose(t.worldFromSimulation);
-    for (int i = 0; i < 6; ++i) out << t.wrenchOnDevice[i] << ',';
-    out << t.contacts << ',' << t.penetration << ',' << t.qpState << ',' << t.simCycleMs << '\n';
-  }
-  file.commit();
-}
-
-namespace {
-
-/// `text` as a JSON string literal (quotes, backslashes and control characters escaped).
-std::string jsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned char>(c));
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-}  // namespace
-
-std::string summaryJson(const HapticSessionSummary& s) {
-  std::ostringstream o;
-  o << std::setprecision(9) << std::boolalpha;
-  const auto num = [](double v) {
-    std::ostringstream n;
-    n << std::setprecision(9);
-    if (std::isfinite(v))
-      n << v;
-    else
-      n << "null";
-    return n.str();
-  };
-  o << "{\n"
-    << "  \"scene\": \"" << s.scene << "\",\n"
-    << (s.sceneFile.empty() ? std::string() : "  \"scene_file\": " + jsonString(s.sceneFile) + ",\n")
-    << "  \"method\": \"" << s.method << "\",\n"
-    << "  \"real_time\": " << s.realTime << ",\n"
-    << "  \"seconds\": " << num(s.seconds) << ",\n"
-    << "  \"inserted\": " << (s.hasInsertCheck ? (s.inserted ? "true" : "false") : "null") << ",\n"
-    << "  \"insert_progress\": " << num(s.insertProgress) << ",\n"
-    << "  \"max_penetration_cells\": " << num(s.maxPenetrationCells) << ",\n"
-    << "  \"tunneled\": " << (s.hasTunnelCheck ? (s.tunneled ? "true" : "false") : "null") << ",\n"
-    << "  \"haptic_rate_hz\": " << num(s.hapticRateHz) << ",\n"
-    << "  \"haptic_ticks\": " << s.hapticTicks << ",\n"
-    << "  \"haptic_overruns\": " << s.hapticOverruns << ",\n"
-    << "  \"haptic_jitter_p99_us\": " << num(s.hapticJitterP99Us) << ",\n"
-    << "  \"sim_cycles\": " << s.simCycles << ",\n"
-    << "  \"sim_cycle_p50_ms\": " << num(s.simCycleP50Ms) << ",\n"
-    << "  \"sim_cycle_p99_ms\": " << num(s.simCycleP99Ms) << ",\n"
-    << "  \"sim_cycle_max_ms\": " << num(s.simCycleMaxMs) << ",\n"
-    << "  \"sim_cycle_cpu_p50_ms\": " << num(s.simCycleCpuP50Ms) << ",\n"
-    << "  \"sim_cycle_cpu_p99_ms\": " << num(s.simCycleCpuP99Ms) << ",\n"
-    << "  \"max_contacts\": " << s.maxContacts << ",\n"
-    << "  \"mean_contacts\": " << num(s.meanContacts) << ",\n"
-    << "  \"stuck_cycles\": " << s.stuckCycles << ",\n"
-    << "  \"failed_cycles\": " << s.failedCycles << ",\n"
-    << "  \"blocked_cycles\": " << s.blockedCycles << ",\n"
-    << "  \"shell_points\": " << s.shellPoints << ",\n"
-    << "  \"guard_stopped\": " << s.guardStopped << ",\n"
-    << "  \"error\": " << (s.error.empty() ? std::string("null") : jsonString(s.error)) << ",\n"
-    << "  \"real_time_priority\": " << jsonString(s.realTimePriority) << ",\n"
-    << "  \"passivity\": " << s.passivityEnabled << ",\n"
-    << "  \"port_energy_j\": " << num(s.passivity.energy) << ",\n"
-    << "  \"port_energy_min_j\": " << num(s.passivity.minEnergy) << ",\n"
-    << "  \"port_deficit_bound_j\": " << num(s.passivity.deficitBound) << ",\n"
-    << "  \"passivity_controlled_ticks\": " << s.passivity.controlledTicks << ",\n"
-    << "  \"rate_limited_ticks\": " << s.passivity.rateLimitedTicks << ",\n"
-    << "  \"max_force_step_n\": " << num(s.passivity.maxForceStep) << ",\n"
-    << "  \"colgate_max_stiffness\": " << num(s.colgateMaxStiffness) << ",\n"
-    << "  \"runaway\": " << (s.runaway.empty() ? std::string("null") : jsonString(s.runaway)) << ",\n"
-    << "  \"final_position\": [" << num(s.finalPosition.x()) << ", " << num(s.finalPosition.y()) << ", "
-    << num(s.finalPosition.z()) << "]\n"
-    << "}\n";
-  return o.str();
 }
 
 }  // namespace sdfccd::haptics

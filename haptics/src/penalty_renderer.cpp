@@ -16,8 +16,20 @@ namespace sdfccd::haptics {
 template <class Field>
 PenaltyRenderer<Field>::PenaltyRenderer(const PointTree& tree, const Field& field, const Rigid& worldFromSdf,
                                         const Rigid& worldFromBodyStart, const PenaltyRendererSettings& settings)
+    : PenaltyRenderer(tree, &field, nullptr, worldFromSdf, worldFromBodyStart, settings) {}
+
+template <class Field>
+PenaltyRenderer<Field>::PenaltyRenderer(const PointTree& tree, ObstacleContacts& obstacles,
+                                        const Rigid& worldFromBodyStart, const PenaltyRendererSettings& settings)
+    : PenaltyRenderer(tree, nullptr, &obstacles, Rigid::Identity(), worldFromBodyStart, settings) {}
+
+template <class Field>
+PenaltyRenderer<Field>::PenaltyRenderer(const PointTree& tree, const Field* field, ObstacleContacts* obstacles,
+                                        const Rigid& worldFromSdf, const Rigid& worldFromBodyStart,
+                                        const PenaltyRendererSettings& settings)
     : m_tree(tree),
       m_field(field),
+      m_obstacles(obstacles),
       m_worldFromSdf(worldFromSdf),
       m_sdfFromWorld(worldFromSdf.inverse()),
       m_settings(settings) {
@@ -69,7 +81,8 @@ PenaltyStepResult PenaltyRenderer<Field>::step(const RigidBodyState& device) {
   shell.velocity.linearEnd = m_state.linearVelocity;
   shell.velocity.angularStart = start.angularVelocity;
   shell.velocity.angularEnd = m_state.angularVelocity;
-  queryContacts(m_tree, m_field, shell, m_fieldMotion, h, m_query, m_contacts);
+  if (m_obstacles) return obstacleContacts(shell, out);
+  queryContacts(m_tree, *m_field, shell, m_fieldMotion, h, m_query, m_contacts);
   out.segmentQueries = m_contacts.ccd.stats.segmentQueries;
   const PenaltyResult& penalty = m_contacts.penalty;
   m_contactWrench << penalty.forceOnShell, penalty.torqueOnShell;
@@ -124,7 +137,7 @@ void PenaltyRenderer<Field>::updateContactGradient() {
     if (!(c.depthAtEnd < 0.0) && !(everyContact && !c.intervals.empty())) continue;
     const std::size_t i = static_cast<std::size_t>(c.point);
     const Vec3 pointInSdf = sdfFromEnd * shell.positions[i];
-    const Vec3 gradient = worldFromSdfRotation * m_field.gradient(pointInSdf);
+    const Vec3 gradient = worldFromSdfRotation * m_field->gradient(pointInSdf);
     const double len = gradient.norm();
     if (!(len > tolerance::kMinDirectionLength)) continue;
     const Vec3 r = worldFromBody * shell.positions[i];
@@ -141,7 +154,7 @@ void PenaltyRenderer<Field>::updateContactGradient() {
     uColumn.head<3>() = u;
     uColumn.tail<3>() = r.cross(u);
     m_contactGradient.noalias() -= k * uColumn * gRow;
-    const double depth = m_field.distance(pointInSdf) - sigma;
+    const double depth = m_field->distance(pointInSdf) - sigma;
     if (!(depth < 0.0)) continue;
     const Vec3 f = (-k * depth) * u;
     m_contactGradient.bottomRightCorner<3, 3>() += cross(f) * cross(r);  // the geometric term of the torque
@@ -150,6 +163,22 @@ void PenaltyRenderer<Field>::updateContactGradient() {
       m_contactGradient.bottomRightCorner<3, 3>() -= cross(r) * cross(f);
     }
   }
+}
+
+template <class Field>
+PenaltyStepResult PenaltyRenderer<Field>::obstacleContacts(const ShellMotion& shell, PenaltyStepResult out) {
+  const double h = m_settings.timestep;
+  m_obstacles->moveOver(m_obstacleTime, m_obstacleTime + h);
+  m_obstacles->penalty(shell, h, m_query, m_settings.consistentGradient, m_obstacleSum);
+  out.segmentQueries = m_obstacleSum.segmentQueries;
+  m_contactWrench = m_obstacleSum.wrenchOnTool;
+  out.contactWrench = m_contactWrench;
+  out.contactCount = m_obstacleSum.contactCount;
+  out.maxPenetration = m_obstacleSum.maxPenetration;
+  m_contactGradient = m_obstacleSum.gradient;
+  if (!m_state.worldFromBody.matrix().allFinite() || !m_state.twist().allFinite())
+    throw Error("penalty renderer: the simulation diverged (non-finite state)");
+  return out;
 }
 
 #define SDFCCD_INSTANTIATE_PENALTY_RENDERER(Field) template class PenaltyRenderer<Field>;

@@ -4,11 +4,12 @@
 ///
 /// @details The contract under test: loadHapticScene either returns a usable scene or throws sdfccd::Error.
 /// Any other exception (e.g. a stray nlohmann::json exception), a crash, a leak or undefined behaviour
-/// (ASan + UBSan) is a failure. A returned scene must have exactly one static object (grid or plane), a
-/// non-empty shell, a finite positive mass, cell size and session length, and finite inertia.
+/// (ASan + UBSan) is a failure. A returned scene must have exactly one static object (grid or plane) or a list of
+/// obstacles (each exactly one of grid, plane or shell; shells only with the tool's field), a non-empty shell, a finite
+/// positive mass, cell size and session length, and finite inertia.
 ///
 /// Loading does real work sized by the file (a CSG grid, buildSdf, shell sampling), so inputs that ask for
-/// a lot of it are skipped before loading (worthLoading): they would only time out. Also skipped: "path"
+/// a lot of it are skipped before loading (worthLoading): they would only time out. Also skipped: string "path"
 /// keys (mesh files from the disk are the mesh loader's business, not this reader's) and the procedural
 /// alpha puzzle piece (seconds to generate under the sanitizers), so the mesh-obstacle branch is fuzzed up to
 /// its mesh only. The caps are far above what the reader's logic needs to be exercised, and far below what
@@ -68,7 +69,7 @@ bool worthLoading(const Json& j) {
   // A CSG grid: spacing >= 0.02 over solids within +-1 is at most ~110 nodes per axis.
   if (j.contains("spacing") && j.at("spacing").is_number() && j.at("spacing").get<double>() < 0.02) return false;
   for (auto it = j.begin(); it != j.end(); ++it) {
-    if (it.key() == "path") return false;
+    if (it.key() == "path" && it.value().is_string()) return false;  // a mesh file (an obstacle's keyframes are fuzzed)
     if ((it.key() == "solids" || it.key() == "holes") && !allNumbersWithin(it.value(), 1.0)) return false;
     const double cap = workCap(it.key());
     if (cap >= 0.0 && it.value().is_number() && !(it.value().get<double>() <= cap)) return false;
@@ -77,8 +78,18 @@ bool worthLoading(const Json& j) {
   return true;
 }
 
+bool usableObstacles(const sdfccd::haptics::HapticScene& s) {
+  if (s.grid || s.plane) return false;  // "obstacles" replaces the one static object
+  for (const sdfccd::haptics::HapticObstacle& o : s.obstacles) {
+    const int kinds = (o.grid != nullptr) + o.plane.has_value() + (o.shell != nullptr);
+    if (kinds != 1 || (o.shell && (!s.toolField || o.shell->pointCount() == 0))) return false;
+    if (!o.path.poseAt(0.0).matrix().allFinite()) return false;
+  }
+  return true;
+}
+
 bool usable(const sdfccd::haptics::HapticScene& s) {
-  if ((s.grid != nullptr) == s.plane.has_value()) return false;
+  if (s.obstacles.empty() ? (s.grid != nullptr) == s.plane.has_value() : !usableObstacles(s)) return false;
   if (!s.tree || s.tree->pointCount() == 0) return false;
   return std::isfinite(s.mass) && s.mass > 0.0 && std::isfinite(s.cellSize) && s.cellSize > 0.0 &&
          std::isfinite(s.seconds) && s.seconds > 0.0 && s.inertiaDiagonal.allFinite();

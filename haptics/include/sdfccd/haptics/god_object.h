@@ -54,6 +54,10 @@
 /// every side point within 0.07 voxel of the wall) re-queries every point near the wall every cycle although the
 /// god-object barely moves.
 ///
+/// Several obstacles (the ObstacleContacts constructor, haptic_obstacles.h): steps 5 and 6 (and the discrete variant's
+/// candidates) gather from every obstacle's pair instead of the one field, the rows in the same form; a cycle whose
+/// time (setObstacleTime) moved an obstacle starts with its push. The clearance cache is the one field's and is off.
+///
 /// Frames: the shell frame is the god-object's body frame and its origin is the centre of mass.
 /// Defined in god_object.cpp for the field types of field_interface.h.
 /// Thread safety: one GodObject per simulation thread; the tree and the field are only read.
@@ -65,6 +69,7 @@
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/field/field_culling_bounds.h"
 #include "sdfccd/haptics/contact_qp.h"
+#include "sdfccd/haptics/haptic_obstacles.h"
 #include "sdfccd/haptics/local_lipschitz_bounds.h"
 #include "sdfccd/haptics/rigid_body_state.h"  // poses and twists of the god-object
 #include "sdfccd/haptics/spatial_types.h"
@@ -99,7 +104,8 @@ struct GodObjectSettings {
 
 /// One contact of the god-object.
 struct GodObjectContact {
-  int point = -1;                          ///< shell point index
+  int point = -1;                          ///< shell point index (of the obstacle's shell when that is the shell)
+  int obstacle = -1;                       ///< -1: the god-object's own field; else the ObstacleContacts index
   Vec3 normalIntoObstacle = Vec3::Zero();  ///< n_k, world, unit
   Vec3 handle = Vec3::Zero();              ///< r_k, world (from the centre to the point)
   double distance = 0.0;                   ///< phi at the point (model units)
@@ -118,6 +124,9 @@ struct GodObjectStepResult {
   int newContacts = 0;                 ///< of those, points that were not in contact before
   double minContactDistance = 0.0;     ///< smallest phi over the next contact set (model units)
   std::int64_t segmentQueries = 0;     ///< CCD work
+  /// Moving obstacles (haptic_obstacles.h): no push clears them all (the tool is pinched between obstacles closing
+  /// in); the god-object stayed where it was before the push.
+  bool squeezed = false;
 };
 /// The god-object of one manipulated shell against one static field.
 template <class Field>
@@ -126,6 +135,14 @@ class GodObject {
   /// `worldFromSdf` places the static field. Throws sdfccd::Error on bad settings.
   GodObject(const PointTree& tree, const Field& field, const Rigid& worldFromSdf, const Rigid& worldFromGodStart,
             const GodObjectSettings& settings);
+  /// Several obstacles, static or moving (haptic_obstacles.h), instead of one static field (`Field` is then unused:
+  /// every contact comes from `obstacles`, which must outlive the god-object). Throws sdfccd::Error on bad settings.
+  GodObject(const PointTree& tree, ObstacleContacts& obstacles, const Rigid& worldFromGodStart,
+            const GodObjectSettings& settings);
+
+  /// The time (s) the obstacles are at during the next cycles: a cycle whose time moved an obstacle first pushes
+  /// the god-object out of its way (haptic_obstacles.h).
+  void setObstacleTime(double time) { m_obstacleTime = time; }
 
   /// One simulation cycle towards the device pose.
   GodObjectStepResult step(const Rigid& worldFromDevice);
@@ -136,6 +153,10 @@ class GodObject {
   Rigid sdfFromGod() const { return m_sdfFromWorld * m_pose; }
 
  private:
+  /// Checks the settings and the start pose; sizes the per-point state of the own field's shell.
+  void initialize(const Rigid& worldFromGodStart);
+  /// Moving obstacles: moves them to m_obstacleTime and pushes the god-object out of their way.
+  void pushByObstacles(GodObjectStepResult& out);
   /// Step 5: the earliest contact fraction of the move; collects the reported points as candidates.
   double continuousFraction(const Rigid& tentative, GodObjectStepResult& out);
   /// The clearance cache (see @details): marks in m_skip the points that cannot reach sigma on the move.
@@ -146,7 +167,9 @@ class GodObject {
   void updateContacts(GodObjectStepResult& out);
 
   const PointTree& m_tree;
-  const Field& m_field;
+  const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
+  ObstacleContacts* m_obstacles = nullptr;  // several obstacles (haptic_obstacles.h)
+  double m_obstacleTime = 0.0;              // s
   Rigid m_worldFromSdf;
   Rigid m_sdfFromWorld;
   Rigid m_pose;

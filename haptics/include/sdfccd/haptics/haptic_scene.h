@@ -32,6 +32,7 @@
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/haptics/device_emulator.h"
 #include "sdfccd/haptics/god_object.h"
+#include "sdfccd/haptics/haptic_obstacles.h"
 #include "sdfccd/haptics/penalty_renderer.h"
 #include "sdfccd/haptics/user_script.h"
 #include "sdfccd/mesh/triangle_mesh.h"
@@ -86,7 +87,14 @@ struct HapticScene {
   std::shared_ptr<const GridField> grid;
   std::optional<PlaneField> plane;
   Rigid worldFromSdf = Rigid::Identity();
-  double cellSize = 0.0;  ///< the field's spacing (plane: a nominal cell used for tolerances), model units
+  double cellSize = 0.0;  ///< the field's spacing (plane: a nominal cell used for tolerances), model units;
+                          ///< with "obstacles": the finest cell of their fields and the tool's field
+  /// Several obstacles (scene key "obstacles", haptic_obstacles.h), each a field or a point shell, static or
+  /// moving. Empty: the one static object above (key "obstacle"); when set, grid and plane are empty.
+  std::vector<HapticObstacle> obstacles;
+  /// The tool's own field (scene key "shell.field"), in its body frame (origin at the centre of mass): what shell
+  /// obstacles collide with. Null: none.
+  std::shared_ptr<const GridField> toolField;
   // The manipulated object.
   std::shared_ptr<const PointTree> tree;
   std::shared_ptr<const TriangleMesh> shellMesh;  ///< the procedural mesh the shell was sampled from

@@ -19,6 +19,10 @@
 /// energy-bounding controller; the observer alone when passivityEnabled is false). An exception in a loop ends the
 /// session with summary.error set and the device rendering zero, instead of terminating the process.
 ///
+/// Several obstacles (scene key "obstacles", haptic_obstacles.h): both methods take their contacts from every
+/// obstacle (GodObject / PenaltyRenderer built on an ObstacleContacts), each simulation step told the device tick's
+/// time so moving obstacles are where their path puts them; penetration is then the deepest over every pair.
+///
 /// Penetration is measured after each simulation step over every shell point (a point query of the tree at
 /// phi <= 0), outside the timed part of the cycle.
 #pragma once
@@ -106,7 +110,7 @@ struct HapticSessionSummary {
   double simCycleCpuP99Ms = 0.0;
   int maxContacts = 0;
   double meanContacts = 0.0;       ///< over simulation cycles
-  std::int64_t stuckCycles = 0;    ///< constraint: cycles whose QP reported Stuck
+  std::int64_t stuckCycles = 0;    ///< constraint: cycles whose QP reported Stuck, or pinched by moving obstacles
   std::int64_t failedCycles = 0;   ///< constraint: cycles whose QP failed
   std::int64_t blockedCycles = 0;  ///< constraint: cycles whose QP optimum was ~0
   int shellPoints = 0;

@@ -24,7 +24,9 @@
 /// receives is bounded by F_max, so that step stays stable.
 ///
 /// Frames: the shell frame is the simulated object's body frame, its origin the centre of mass; the field is
-/// fixed at worldFromSdf.
+/// fixed at worldFromSdf. With several obstacles (haptic_obstacles.h) step 3 and 4 are every pair's query and
+/// gradient over the tick's relative motion, the wrench fed forward by the obstacles' own motion
+/// (ObstacleContacts::penalty).
 /// Defined in penalty_renderer.cpp for the field types of field_interface.h.
 ///
 /// Thread safety: one renderer per haptic thread; the tree and the field are only read.
@@ -33,6 +35,7 @@
 #include <cstdint>
 
 #include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/haptics/haptic_obstacles.h"
 #include "sdfccd/haptics/rigid_body_state.h"
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/haptics/virtual_coupling.h"
@@ -76,6 +79,14 @@ class PenaltyRenderer {
   /// settings or a non-finite pose.
   PenaltyRenderer(const PointTree& tree, const Field& field, const Rigid& worldFromSdf, const Rigid& worldFromBodyStart,
                   const PenaltyRendererSettings& settings);
+  /// Several obstacles, static or moving (haptic_obstacles.h), instead of one fixed field (`Field` is then unused;
+  /// `obstacles` must outlive the renderer). Each tick's contacts are every pair's, over the relative motion of the
+  /// tick [time, time + timestep] (setObstacleTime).
+  PenaltyRenderer(const PointTree& tree, ObstacleContacts& obstacles, const Rigid& worldFromBodyStart,
+                  const PenaltyRendererSettings& settings);
+
+  /// The time (s) at the start of the next tick (the obstacles move over [time, time + timestep]).
+  void setObstacleTime(double time) { m_obstacleTime = time; }
 
   /// One haptic tick against the device state.
   PenaltyStepResult step(const RigidBodyState& device);
@@ -87,10 +98,17 @@ class PenaltyRenderer {
   const Mat6& contactGradient() const { return m_contactGradient; }
 
  private:
+  PenaltyRenderer(const PointTree& tree, const Field* field, ObstacleContacts* obstacles, const Rigid& worldFromSdf,
+                  const Rigid& worldFromBodyStart, const PenaltyRendererSettings& settings);
   void updateContactGradient();
+  /// The obstacles' contacts over the step just taken (`shell`: the tool's motion): wrench, gradient, result.
+  PenaltyStepResult obstacleContacts(const ShellMotion& shell, PenaltyStepResult out);
 
   const PointTree& m_tree;
-  const Field& m_field;
+  const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
+  ObstacleContacts* m_obstacles = nullptr;  // several obstacles (haptic_obstacles.h)
+  double m_obstacleTime = 0.0;              // s
+  ObstaclePenaltySum m_obstacleSum;
   Rigid m_worldFromSdf;
   Rigid m_sdfFromWorld;
   PenaltyRendererSettings m_settings;
