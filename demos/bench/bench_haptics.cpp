@@ -17,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/cache_option.h"
@@ -49,8 +50,40 @@ struct BenchHapticsOptions {
   std::string direction;     // Fig. 10b: the penalty force's direction ("": the scene's)
   bool oldGradient = false;  // Fig. 10b: the renderer's former symmetric field-normal contact gradient
   bool freshCcd = false;     // the penalty renderer's CCD without temporal coherence (the former cost)
+  bool allRungs = false;     // Fig. 10b: every rung from 1e6 to 4e7 N/m, no early stop, one line per method
   std::string coupling;      // Fig. 10b: the coupling's integration ("": explicit, the renderer's default)
 };
+
+/// Fig. 10b, every rung: the stability of each k from 1e6 to 4e7 N/m (factor 10^(1/10)) for both penalty models, with
+/// no early stop: '+' stable, else the first letter of the reason (s speed, R runaway, E ejected, p penetration,
+/// c chatter, x other). In the peg the failures are scattered events of one trajectory, so the first failure and the
+/// count of stable rungs say more than the last stable rung below two failures.
+char rungLetter(const haptics::StabilityRun& r) {
+  if (r.stable) return '+';
+  const std::pair<const char*, char> kinds[] = {
+      {"speed", 's'}, {"runaway", 'R'}, {"ejected", 'E'}, {"penetration", 'p'}, {"chatter", 'c'}};
+  for (const auto& [prefix, letter] : kinds)
+    if (r.reason.rfind(prefix, 0) == 0) return letter;
+  return 'x';
+}
+
+int printAllRungs(const haptics::HapticScene& scene, const haptics::HapticSessionSettings& base) {
+  const haptics::HapticMethod methods[2] = {haptics::HapticMethod::Penalty, haptics::HapticMethod::DiscretePenalty};
+  for (const haptics::HapticMethod method : methods) {
+    std::printf("%-17s", haptics::toString(method));
+    int stable = 0, rungs = 0;
+    double firstFailure = 0.0;
+    for (double k = 1e6; k < 4.1e7; k *= std::pow(10.0, 0.1), ++rungs) {
+      const haptics::StabilityRun r = haptics::runAtStiffness(scene, method, k, haptics::StabilityCriteria{}, base);
+      std::printf(" %c", rungLetter(r));
+      std::fflush(stdout);
+      stable += r.stable;
+      if (!r.stable && firstFailure == 0.0) firstFailure = k;
+    }
+    std::printf("  stable %d/%d, first failure %.3g N/m\n", stable, rungs, firstFailure);
+  }
+  return 0;
+}
 
 /// Fig. 10b: the largest stable penalty stiffness per point of the peg, continuous vs discrete (stability_sweep.h),
 /// on a geometric ladder of factor 10^(1/10) (about 1.26) from 1e4 N/m.
@@ -75,13 +108,14 @@ int runFig10b(const BenchHapticsOptions& o) {
       sceneName.c_str(), scene.tree->pointCount(), directions[static_cast<int>(scene.penalty.contact.direction)],
       o.oldGradient ? "former symmetric" : "consistent", haptics::toString(scene.penalty.couplingIntegration),
       o.noPassivity ? "off" : "on");
+  haptics::HapticSessionSettings base;
+  base.passivityEnabled = !o.noPassivity;
+  if (o.allRungs) return printAllRungs(scene, base);
   std::printf("%-17s %10s %7s %9s %9s %9s %8s %6s  %s\n", "method", "k (N/m)", "stable", "sep_cells", "speed",
               "pen_cells", "revers", "insert", "reason");
   double limits[2] = {0.0, 0.0};
   const haptics::HapticMethod methods[2] = {haptics::HapticMethod::Penalty, haptics::HapticMethod::DiscretePenalty};
   for (int m = 0; m < 2; ++m) {
-    haptics::HapticSessionSettings base;
-    base.passivityEnabled = !o.noPassivity;
     const haptics::StabilitySweep sweep =
         haptics::sweepStiffness(scene, methods[m], 1e4, 1e9, std::pow(10.0, 0.1), haptics::StabilityCriteria{}, base);
     for (const haptics::StabilityRun& r : sweep.runs) {
@@ -240,6 +274,8 @@ const BenchRegistrar bench_hapticsRegistrar(
           ->check(CLI::IsMember({"shell-normal", "field-gradient", "blend"}));
       cmd.add_flag("--fig10b-old-gradient", o->oldGradient,
                    "Fig. 10b: the former symmetric field-normal contact gradient (before issue 16)");
+      cmd.add_flag("--fig10b-all-rungs", o->allRungs,
+                   "Fig. 10b: every rung 1e6..4e7 N/m without the early stop (one line per penalty model)");
       cmd.add_option("--fig10b-coupling", o->coupling,
                      "Fig. 10b: the coupling's integration (default explicit; implicit_coupling.h)")
           ->check(CLI::IsMember({"explicit", "implicit", "implicit-device"}));
