@@ -40,7 +40,15 @@ PenaltyRenderer<Field>::PenaltyRenderer(const PointTree& tree, const Field& fiel
   m_query.threads = settings.threads;
   // The every-contact query starts from the last tick's front (rigid_ccd_coherence.h): the same contacts bit for
   // bit, fewer field lookups where the shell stays clear of the field between ticks.
-  if (settings.coherentCcd) m_query.coherence = &m_coherence;
+  if (settings.coherentCcd) {
+    m_query.coherence = &m_coherence;
+    // Builds the history (per-node tables and a first front) with a zero-length query at the start pose, so that the
+    // first tick of the loop does not pay for it (2.3 ms at 25,000 points in the peg). Its result is not used.
+    ContactQuerySettings warm = m_query;
+    warm.integratePenalty = false;
+    queryContacts(m_tree, m_field, ShellMotion::fixed(worldFromBodyStart), m_fieldMotion, settings.timestep, warm,
+                  m_contacts);
+  }
 }
 
 template <class Field>
