@@ -21,7 +21,9 @@
 ///      consistentGradient = false keeps the older symmetric -k B^T n n^T B (n the unit gradient);
 ///   5. the device feels the reaction of the coupling.
 /// The device itself is integrated by the DeviceEmulator (explicit, at the same rate): the coupling force it
-/// receives is bounded by F_max, so that step stays stable.
+/// receives is bounded by F_max, so that step stays stable. Step 2 and the reaction of step 5 are, by default,
+/// those of the device frozen for the tick (CouplingIntegration::Explicit); the implicit modes of
+/// implicit_coupling.h integrate the coupling with the object (and with the device's model where it is known).
 ///
 /// Frames: the shell frame is the simulated object's body frame, its origin the centre of mass; the field is
 /// fixed at worldFromSdf. With several obstacles (haptic_obstacles.h) step 3 and 4 are every pair's query and
@@ -36,6 +38,7 @@
 
 #include "sdfccd/ccd/segment_ccd.h"
 #include "sdfccd/haptics/haptic_obstacles.h"
+#include "sdfccd/haptics/implicit_coupling.h"
 #include "sdfccd/haptics/rigid_body_state.h"
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/haptics/virtual_coupling.h"
@@ -60,6 +63,15 @@ struct PenaltyRendererSettings {
   /// The contact gradient with the force's own direction and the torque's geometric term (see step 4); false: the
   /// symmetric field-normal approximation the renderer used before (for comparison, Fig. 10b).
   bool consistentGradient = true;
+  /// The CCD started from the last tick's front (temporal coherence, rigid_ccd_coherence.h): the contacts are the
+  /// fresh query's bit for bit; false: the fresh query every tick (for comparison).
+  bool coherentCcd = true;
+  /// How the coupling enters the step and what the device is rendered (implicit_coupling.h): Explicit (default, the
+  /// former scheme: the device frozen for the tick, rendered the coupling at the tick's start), Implicit (the
+  /// paper's admittance mode: rendered the coupling at the end of the object's implicit step) or ImplicitWithDevice
+  /// (the device's dynamics, `deviceModel`, in the same backward Euler step). Both implicit modes need `implicit`.
+  CouplingIntegration couplingIntegration = CouplingIntegration::Explicit;
+  CouplingDeviceModel deviceModel;  ///< ImplicitWithDevice: the device's mass, inertia, friction
 };
 
 /// What one tick did.
@@ -69,6 +81,7 @@ struct PenaltyStepResult {
   int contactCount = 0;                ///< points that produced a force this tick
   double maxPenetration = 0.0;         ///< deepest sample this tick (model units, >= 0)
   std::int64_t segmentQueries = 0;
+  std::int64_t certifiedNodes = 0;  ///< coherent CCD: tree nodes ruled out by their certificate alone
 };
 
 /// The renderer of one simulated object against one fixed field.
@@ -103,6 +116,8 @@ class PenaltyRenderer {
   void updateContactGradient();
   /// The obstacles' contacts over the step just taken (`shell`: the tool's motion): wrench, gradient, result.
   PenaltyStepResult obstacleContacts(const ShellMotion& shell, PenaltyStepResult out);
+  Vec6 coupledVelocityChange(const RigidBodyState& device, const CouplingWrench& coupling, const Mat6& mass,
+                             PenaltyStepResult& out) const;
 
   const PointTree& m_tree;
   const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
@@ -118,6 +133,7 @@ class PenaltyRenderer {
   Vec6 m_contactWrench = Vec6::Zero();
   Mat6 m_contactGradient = Mat6::Zero();
   ContactQueryResult m_contacts;
+  RigidCcdCoherence m_coherence;  ///< the CCD's history across ticks (settings.coherentCcd)
 };
 
 }  // namespace sdfccd::haptics
