@@ -3,7 +3,9 @@
 /// field type of field_interface.h (as FCL does: the public header declares, this file defines).
 #include "sdfccd/ccd/rigid_ccd.h"
 
+#include <mutex>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 #include "ccd/rigid_ccd_coherent.h"
@@ -22,6 +24,33 @@ template <class Field>
 struct HasInstanceId<Field, std::void_t<decltype(std::declval<const Field&>().instanceId())>> : std::true_type {};
 
 }  // namespace
+
+namespace detail {
+
+std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree) {
+  // Keyed by instance id (never reused); weak, so the tables go with the last history of their tree. Only a
+  // history's first query (or one after a reset) comes here: a lock is cheap at that rate.
+  static std::mutex mutex;
+  static std::unordered_map<std::uint64_t, std::weak_ptr<const RigidCcdCoherence::TreeTables>> registry;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::weak_ptr<const RigidCcdCoherence::TreeTables>& slot = registry[tree.instanceId()];
+  if (std::shared_ptr<const RigidCcdCoherence::TreeTables> shared = slot.lock()) return shared;
+  auto tables = std::make_shared<RigidCcdCoherence::TreeTables>();
+  const int nodes = tree.nodeCount();
+  tables->parent.assign(static_cast<std::size_t>(nodes), -1);
+  tables->reachFromOrigin.resize(static_cast<std::size_t>(nodes));
+  for (int n = 0; n < nodes; ++n) {
+    tables->reachFromOrigin[n] = tree.center(n).norm() + tree.radius(n);
+    for (int k = 0; k < tree.childCount(n); ++k) tables->parent[tree.firstChild(n) + k] = n;
+  }
+  slot = tables;
+  if (registry.size() > 64) {  // forget the trees no history uses any more
+    for (auto it = registry.begin(); it != registry.end();) it = it->second.expired() ? registry.erase(it) : ++it;
+  }
+  return tables;
+}
+
+}  // namespace detail
 
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "ccd/rigid_ccd_query.h"
@@ -18,6 +19,10 @@ constexpr std::size_t kCoherencePoses = 8;
 /// Front nodes kept from the last query try to ascend once every this many queries (nodes re-tested this
 /// query try at once): the check costs as much as the certificate's, and parents rarely qualify step to step.
 constexpr std::uint64_t kAscentPeriod = 8;
+
+/// The tables of `tree` (parents, reach from the shell origin), shared by every history of that tree: built on
+/// the first request, kept while a history holds them (rigid_ccd.cpp; thread safe).
+std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree);
 
 /// Distance from `p` to the box (0 inside).
 inline double distanceToBox(const Vec3& p, const Box3& box) {
@@ -72,14 +77,11 @@ class CoherentQuery {
       c.nodeCount = m_tree.nodeCount();
       c.sigma = m_settings.sigma;
       c.lipschitz = m_bounds.lipschitz;
-      c.parent.assign(c.nodeCount, -1);
-      c.reachFromOrigin.resize(c.nodeCount);
-      for (int n = 0; n < c.nodeCount; ++n) {
-        c.reachFromOrigin[n] = m_tree.center(n).norm() + m_tree.radius(n);
-        for (int k = 0; k < m_tree.childCount(n); ++k) c.parent[m_tree.firstChild(n) + k] = n;
-      }
+      c.tables = rigidCcdTreeTables(m_tree);
       c.front.push_back({0, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None});
     }
+    m_parent = c.tables->parent.data();
+    m_reach = c.tables->reachFromOrigin.data();
     c.poses.push_back(end);
     m_endPose = static_cast<int>(c.poses.size()) - 1;
     m_rotation.resize(c.poses.size());
@@ -96,7 +98,7 @@ class CoherentQuery {
   /// (ascent: a parent that would fail at once is not worth it).
   bool certified(const RigidCcdCoherence::Entry& e, double headroom) const {
     if (e.kind == RigidCcdCoherence::Kind::None) return false;
-    const double moved = m_rotation[e.pose] * m_cache.reachFromOrigin[e.node] + m_translation[e.pose];
+    const double moved = m_rotation[e.pose] * m_reach[e.node] + m_translation[e.pose];
     return (m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth < e.room;
   }
 
@@ -176,7 +178,7 @@ class CoherentQuery {
     next.push_back(e);
     while (ascend) {
       const int node = next.back().node;
-      const int parent = m_cache.parent[node];
+      const int parent = m_parent[node];
       if (parent < 0) return;
       const int first = m_tree.firstChild(parent);
       const int count = m_tree.childCount(parent);
@@ -199,17 +201,20 @@ class CoherentQuery {
   void compactPoses() {
     RigidCcdCoherence& c = m_cache;
     if (c.poses.size() < kCoherencePoses) return;
-    std::vector<int> remap(c.poses.size(), -1);
+    // In place, in the cache's buffers: this runs on most queries of a long contact (allocation-free).
+    std::vector<int>& remap = c.scratchRemap;
+    remap.assign(c.poses.size(), -1);
     for (const auto& e : c.front) {
       if (e.pose >= 0) remap[static_cast<std::size_t>(e.pose)] = 0;
     }
-    std::vector<Rigid> kept;
+    std::size_t kept = 0;
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
       if (remap[k] < 0) continue;
-      remap[k] = static_cast<int>(kept.size());
-      kept.push_back(c.poses[k]);
+      remap[k] = static_cast<int>(kept);
+      if (kept != k) c.poses[kept] = c.poses[k];
+      ++kept;
     }
-    c.poses.swap(kept);
+    c.poses.resize(kept);
     for (auto& e : c.front) {
       if (e.pose >= 0) e.pose = remap[static_cast<std::size_t>(e.pose)];
     }
@@ -221,6 +226,8 @@ class CoherentQuery {
   const RigidCcdSettings& m_settings;
   RigidCcdCoherence& m_cache;
   FieldCullingBounds m_bounds;
+  const int* m_parent = nullptr;  // the shared tree tables (RigidCcdCoherence::TreeTables)
+  const double* m_reach = nullptr;
   int m_endPose = -1;
   std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
   std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "sdfccd/math_types.h"
@@ -38,6 +39,7 @@ class RigidCcdCoherence {
   void reset() {
     front.clear();
     poses.clear();
+    tables.reset();
     treeId = 0;
     fieldId = 0;
   }
@@ -54,9 +56,14 @@ class RigidCcdCoherence {
     Kind kind = Kind::None;
   };
   std::vector<Entry> front;
-  std::vector<Rigid> poses;             // sdfFromShell at each certificate's pose
-  std::vector<int> parent;              // per tree node (-1: root)
-  std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
+  /// Per-tree tables, the same for every history of one tree: shared (rigidCcdTreeTables in the query), so
+  /// that hundreds of pairs of one shape keep one copy warm in the cache instead of one each.
+  struct TreeTables {
+    std::vector<int> parent;              // per tree node (-1: root)
+    std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
+  };
+  std::vector<Rigid> poses;  // sdfFromShell at each certificate's pose
+  std::shared_ptr<const TreeTables> tables;
   std::uint64_t treeId = 0;   // the key: a query with other inputs starts afresh. Instance ids (instance_id.h),
   std::uint64_t fieldId = 0;  // not addresses: a new tree or field at a freed one's address must not match
   int nodeCount = 0;
@@ -67,6 +74,7 @@ class RigidCcdCoherence {
   std::vector<int> scratchStack;
   std::vector<double> scratchRotation;
   std::vector<double> scratchTranslation;
+  std::vector<int> scratchRemap;
 };
 
 }  // namespace sdfccd
