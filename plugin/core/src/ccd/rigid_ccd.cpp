@@ -62,8 +62,25 @@ void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShe
 }
 
 template <class Field>
+bool rigidCcdCertifiedClear(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart,
+                            const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings, RigidCcdCoherence& history,
+                            RigidCcdResult& outResult) {
+  if constexpr (!HasInstanceId<Field>::value) {
+    return false;
+  } else {
+    if (settings.earliestOnly || settings.cullLipschitz != 0.0 || !settings.useTree) return false;
+    if (!detail::coherentFrontClear(history, tree, field, settings, sdfFromShellStart, sdfFromShellEnd)) return false;
+    outResult.clear();
+    outResult.stats.certified = static_cast<std::int64_t>(history.front.size());
+    ++history.queries;
+    return true;
+  }
+}
+
+template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult) {
+  if (rigidCcdCertifiedClear(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, history, outResult)) return;
   if constexpr (!HasInstanceId<Field>::value) {
     // No identity to key the history by (an address may be reused by another field): fresh, and forget.
     history.reset();
@@ -100,6 +117,8 @@ bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node
                                 RigidCcdResult&);                                                                    \
   template void rigidCcd<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&, const RigidCcdSettings&, \
                                 RigidCcdCoherence&, RigidCcdResult&);                                                \
+  template bool rigidCcdCertifiedClear<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&,            \
+                                              const RigidCcdSettings&, RigidCcdCoherence&, RigidCcdResult&);         \
   template bool pointTreeNodeMayCollide<Field>(const PointTree&, const Field&, int, const Rigid&, const Rigid&,      \
                                                const RigidCcdSettings&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_RIGID_CCD)

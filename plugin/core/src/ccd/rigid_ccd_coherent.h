@@ -30,6 +30,48 @@ inline double distanceToBox(const Vec3& p, const Box3& box) {
   return (nearest - p).norm();
 }
 
+/// How far the shell's points may have moved since pose `p`, in the step [start, end]: the largest Frobenius
+/// norm of the rotation change (times a point's distance from the shell origin) and of the translation change.
+struct PoseMotion {
+  double rotation = 0.0;
+  double translation = 0.0;
+};
+inline PoseMotion motionSince(const Rigid& p, const Rigid& start, const Rigid& end) {
+  return {std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm()),
+          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm())};
+}
+
+/// Is `history` keyed to these inputs (else the query starts afresh)?
+template <class Field>
+bool coherenceMatches(const RigidCcdCoherence& c, const PointTree& tree, const Field& field, double sigma,
+                      double lipschitz) {
+  return c.treeId == tree.instanceId() && c.fieldId == field.instanceId() && c.nodeCount == tree.nodeCount() &&
+         c.sigma == sigma && c.lipschitz == lipschitz;
+}
+
+/// The whole-front test: true when every front entry's certificate holds for the step [start, end], checked per
+/// kept pose on the front's folded bounds (RigidCcdCoherence::PoseBound) instead of entry by entry. For each
+/// entry e at pose k, maxReach_k >= reach(e) and minSlack_k <= room(e) / kBoundGrowth - radius(e), so
+///   rotation_k maxReach_k + translation_k < minSlack_k
+/// implies (radius(e) + moved(e)) kBoundGrowth < room(e), the entry's own test (CoherentQuery::certified); the
+/// factor kBoundGrowth on the left keeps the folding's rounding (relative 1e-16) far inside that test's slack.
+/// Then no point can touch during the step and the query's answer is empty. False for a non-finite pose (the
+/// full query reports it).
+template <class Field>
+bool coherentFrontClear(const RigidCcdCoherence& c, const PointTree& tree, const Field& field,
+                        const RigidCcdSettings& settings, const Rigid& start, const Rigid& end) {
+  if (!c.frontCertified || c.front.empty() || c.poseBounds.size() != c.poses.size()) return false;
+  if (!coherenceMatches(c, tree, field, settings.sigma, fieldCullingBounds(field).lipschitz)) return false;
+  if (!start.matrix().allFinite() || !end.matrix().allFinite() || !std::isfinite(settings.sigma)) return false;
+  for (std::size_t k = 0; k < c.poses.size(); ++k) {
+    const RigidCcdCoherence::PoseBound& b = c.poseBounds[k];
+    if (b.maxReach < 0.0) continue;  // no entry at this pose
+    const PoseMotion m = motionSince(c.poses[k], start, end);
+    if (!((m.rotation * b.maxReach + m.translation) * tolerance::kBoundGrowth < b.minSlack)) return false;
+  }
+  return true;
+}
+
 template <class Field>
 class CoherentQuery {
  public:
@@ -48,6 +90,7 @@ class CoherentQuery {
   void run(RigidCcdResult& out) {
     std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
     next.clear();
+    m_cache.frontCertified = false;  // until the new front is folded (an exception leaves the fast path off)
     const bool ascend = m_cache.queries++ % kAscentPeriod == 0;
     for (const RigidCcdCoherence::Entry& entry : m_cache.front) {
       if (certified(entry, 1.0)) {
@@ -59,6 +102,7 @@ class CoherentQuery {
     }
     m_cache.front.swap(next);
     compactPoses();
+    foldPoseBounds();
     std::sort(out.contacts.begin(), out.contacts.end(),
               [](const PointContact& a, const PointContact& b) { return a.point < b.point; });
     for (const auto& contact : out.contacts) out.firstFraction = std::min(out.firstFraction, contact.fraction);
@@ -69,8 +113,7 @@ class CoherentQuery {
   /// and each kept pose's largest distance to the step's two poses.
   void prepareCache(const Rigid& start, const Rigid& end) {
     RigidCcdCoherence& c = m_cache;
-    if (c.treeId != m_tree.instanceId() || c.fieldId != m_field.instanceId() || c.nodeCount != m_tree.nodeCount() ||
-        c.sigma != m_settings.sigma || c.lipschitz != m_bounds.lipschitz) {
+    if (!coherenceMatches(c, m_tree, m_field, m_settings.sigma, m_bounds.lipschitz)) {
       c.reset();
       c.treeId = m_tree.instanceId();
       c.fieldId = m_field.instanceId();
@@ -87,10 +130,9 @@ class CoherentQuery {
     m_rotation.resize(c.poses.size());
     m_translation.resize(c.poses.size());
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
-      const Rigid& p = c.poses[k];
-      m_rotation[k] = std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm());
-      m_translation[k] =
-          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm());
+      const PoseMotion m = motionSince(c.poses[k], start, end);
+      m_rotation[k] = m.rotation;
+      m_translation[k] = m.translation;
     }
   }
 
@@ -194,6 +236,27 @@ class CoherentQuery {
       if (!certified(up, 2.0)) return;
       next.resize(begin);
       next.push_back(up);
+    }
+  }
+
+  /// Folds the new front's certificates per pose for coherentFrontClear (maxReach < 0: no entry at that pose).
+  void foldPoseBounds() {
+    RigidCcdCoherence& c = m_cache;
+    c.frontCertified = true;
+    c.poseBounds.assign(c.poses.size(), {-1.0, 0.0});
+    for (const RigidCcdCoherence::Entry& e : c.front) {
+      if (e.kind == RigidCcdCoherence::Kind::None || e.pose < 0) {
+        c.frontCertified = false;
+        return;
+      }
+      RigidCcdCoherence::PoseBound& b = c.poseBounds[static_cast<std::size_t>(e.pose)];
+      const double slack = e.room / tolerance::kBoundGrowth - m_tree.radius(e.node);
+      if (b.maxReach < 0.0) {
+        b = {m_reach[e.node], slack};
+      } else {
+        b.maxReach = std::max(b.maxReach, m_reach[e.node]);
+        b.minSlack = std::min(b.minSlack, slack);
+      }
     }
   }
 

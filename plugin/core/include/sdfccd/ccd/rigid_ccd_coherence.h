@@ -38,6 +38,8 @@ class RigidCcdCoherence {
   /// Forgets the history: the next query starts at the root.
   void reset() {
     front.clear();
+    poseBounds.clear();
+    frontCertified = false;
     poses.clear();
     tables.reset();
     treeId = 0;
@@ -55,7 +57,15 @@ class RigidCcdCoherence {
     double room = 0.0;  // how far below the centre (radius + motion) the certificate allows
     Kind kind = Kind::None;
   };
+  /// Per kept pose, the front's certificates at that pose folded into one test (`clear` below): the largest
+  /// reach from the shell origin and the smallest room left over a node's radius (room / kBoundGrowth - radius).
+  struct PoseBound {
+    double maxReach = 0.0;
+    double minSlack = 0.0;
+  };
   std::vector<Entry> front;
+  std::vector<PoseBound> poseBounds;  // per pose of `poses`, valid when frontCertified
+  bool frontCertified = false;        // every front entry carries a certificate (none is a contact or ignored)
   /// Per-tree tables, the same for every history of one tree: shared (rigidCcdTreeTables in the query), so
   /// that hundreds of pairs of one shape keep one copy warm in the cache instead of one each.
   struct TreeTables {
