@@ -129,8 +129,9 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   return m_bodies.back();
 }
 
-FrictionAnchorTable* SdfccdContactSystem::anchorTable(const btPersistentManifold* manifold, int role,
-                                                      const btCollisionObject* shell, const btCollisionObject* field) {
+SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersistentManifold* manifold, int role,
+                                                                 const btCollisionObject* shell,
+                                                                 const btCollisionObject* field) {
   std::unique_ptr<AnchorSlot>& slot = m_anchorSlots[{manifold, role}];
   if (!slot) slot = std::make_unique<AnchorSlot>();
   if (slot->shellObject != shell || slot->fieldObject != field || slot->lastStep + 1 < m_stepCounter) {
@@ -140,7 +141,7 @@ FrictionAnchorTable* SdfccdContactSystem::anchorTable(const btPersistentManifold
     slot->fieldObject = field;
   }
   slot->lastStep = m_stepCounter;
-  return &slot->table;
+  return *slot;
 }
 
 void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
@@ -239,17 +240,19 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     role.friction = std::clamp(friction, 0.0, kMaxCombinedFriction);
     role.dampingRatio = dampingRatio;
     role.penalty = &pairPenalty;
-    if (!closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor) {
-      role.anchors = anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
-    }
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
+    const bool anchors = !closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor;
     // The CCD history only for our shell tree against our grid field: both persistent (owned by the shapes'
     // BodyModels) and keyed by instance id. Other shells and fields are per-step objects: no history.
-    if (!closestPointsOnly && m_settings.coherentCcd && isSdfccdShape(shellShape) && isSdfccdShape(fieldShape)) {
-      // anchorTable() keeps the slot: it forgets table and history when another pair reuses the manifold.
-      anchorTable(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
-      role.coherence = &m_anchorSlots[{manifold, roleIndex}]->coherence;
+    const bool coherent =
+        !closestPointsOnly && m_settings.coherentCcd && isSdfccdShape(shellShape) && isSdfccdShape(fieldShape);
+    if (anchors || coherent) {  // one map lookup per role (a pile has thousands of slots)
+      // anchorSlot() keeps the slot: it forgets table and history when another pair reuses the manifold.
+      AnchorSlot& slot =
+          anchorSlot(manifold, roleIndex, shellWrap->getCollisionObject(), fieldWrap->getCollisionObject());
+      if (anchors) role.anchors = &slot.table;
+      if (coherent) role.coherence = &slot.coherence;
     }
     ++roleIndex;
     if (isSdfccdShape(fieldShape)) {

@@ -253,9 +253,9 @@ class SdfccdContactSystem : public btActionInterface {
   struct AnchorSlot;
   /// This step's motion of the wrapper's object (once per step); `contactMass`: apply applyContactMass.
   BodyStep& bodyStep(const btCollisionObjectWrapper* wrap, double timeStep, bool contactMass);
-  /// The friction anchors of (manifold, role), created on first use and kept across steps.
-  FrictionAnchorTable* anchorTable(const btPersistentManifold* manifold, int role, const btCollisionObject* shell,
-                                   const btCollisionObject* field);
+  /// The friction anchors and CCD history of (manifold, role), created on first use and kept across steps.
+  AnchorSlot& anchorSlot(const btPersistentManifold* manifold, int role, const btCollisionObject* shell,
+                         const btCollisionObject* field);
   void applyPenaltyImpulses(const Record& record);
   /// Per-area law: scales a dynamic body's mass for the contact response by last step's contact load.
   void applyContactMass(BodyStep& step, double timeStep) const;

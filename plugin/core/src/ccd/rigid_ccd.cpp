@@ -3,7 +3,9 @@
 /// field type of field_interface.h (as FCL does: the public header declares, this file defines).
 #include "sdfccd/ccd/rigid_ccd.h"
 
+#include <mutex>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 #include "ccd/rigid_ccd_coherent.h"
@@ -23,6 +25,33 @@ struct HasInstanceId<Field, std::void_t<decltype(std::declval<const Field&>().in
 
 }  // namespace
 
+namespace detail {
+
+std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree) {
+  // Keyed by instance id (never reused); weak, so the tables go with the last history of their tree. Only a
+  // history's first query (or one after a reset) comes here: a lock is cheap at that rate.
+  static std::mutex mutex;
+  static std::unordered_map<std::uint64_t, std::weak_ptr<const RigidCcdCoherence::TreeTables>> registry;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::weak_ptr<const RigidCcdCoherence::TreeTables>& slot = registry[tree.instanceId()];
+  if (std::shared_ptr<const RigidCcdCoherence::TreeTables> shared = slot.lock()) return shared;
+  auto tables = std::make_shared<RigidCcdCoherence::TreeTables>();
+  const int nodes = tree.nodeCount();
+  tables->parent.assign(static_cast<std::size_t>(nodes), -1);
+  tables->reachFromOrigin.resize(static_cast<std::size_t>(nodes));
+  for (int n = 0; n < nodes; ++n) {
+    tables->reachFromOrigin[n] = tree.center(n).norm() + tree.radius(n);
+    for (int k = 0; k < tree.childCount(n); ++k) tables->parent[tree.firstChild(n) + k] = n;
+  }
+  slot = tables;
+  if (registry.size() > 64) {  // forget the trees no history uses any more
+    for (auto it = registry.begin(); it != registry.end();) it = it->second.expired() ? registry.erase(it) : ++it;
+  }
+  return tables;
+}
+
+}  // namespace detail
+
 template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdResult& outResult) {
@@ -33,8 +62,25 @@ void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShe
 }
 
 template <class Field>
+bool rigidCcdCertifiedClear(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart,
+                            const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings, RigidCcdCoherence& history,
+                            RigidCcdResult& outResult) {
+  if constexpr (!HasInstanceId<Field>::value) {
+    return false;
+  } else {
+    if (settings.earliestOnly || settings.cullLipschitz != 0.0 || !settings.useTree) return false;
+    if (!detail::coherentFrontClear(history, tree, field, settings, sdfFromShellStart, sdfFromShellEnd)) return false;
+    outResult.clear();
+    outResult.stats.certified = static_cast<std::int64_t>(history.front.size());
+    ++history.queries;
+    return true;
+  }
+}
+
+template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult) {
+  if (rigidCcdCertifiedClear(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, history, outResult)) return;
   if constexpr (!HasInstanceId<Field>::value) {
     // No identity to key the history by (an address may be reused by another field): fresh, and forget.
     history.reset();
@@ -71,6 +117,8 @@ bool pointTreeNodeMayCollide(const PointTree& tree, const Field& field, int node
                                 RigidCcdResult&);                                                                    \
   template void rigidCcd<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&, const RigidCcdSettings&, \
                                 RigidCcdCoherence&, RigidCcdResult&);                                                \
+  template bool rigidCcdCertifiedClear<Field>(const PointTree&, const Field&, const Rigid&, const Rigid&,            \
+                                              const RigidCcdSettings&, RigidCcdCoherence&, RigidCcdResult&);         \
   template bool pointTreeNodeMayCollide<Field>(const PointTree&, const Field&, int, const Rigid&, const Rigid&,      \
                                                const RigidCcdSettings&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_RIGID_CCD)

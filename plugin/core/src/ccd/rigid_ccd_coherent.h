@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "ccd/rigid_ccd_query.h"
@@ -19,10 +20,56 @@ constexpr std::size_t kCoherencePoses = 8;
 /// query try at once): the check costs as much as the certificate's, and parents rarely qualify step to step.
 constexpr std::uint64_t kAscentPeriod = 8;
 
+/// The tables of `tree` (parents, reach from the shell origin), shared by every history of that tree: built on
+/// the first request, kept while a history holds them (rigid_ccd.cpp; thread safe).
+std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree);
+
 /// Distance from `p` to the box (0 inside).
 inline double distanceToBox(const Vec3& p, const Box3& box) {
   const Vec3 nearest = p.cwiseMax(box.min()).cwiseMin(box.max());
   return (nearest - p).norm();
+}
+
+/// How far the shell's points may have moved since pose `p`, in the step [start, end]: the largest Frobenius
+/// norm of the rotation change (times a point's distance from the shell origin) and of the translation change.
+struct PoseMotion {
+  double rotation = 0.0;
+  double translation = 0.0;
+};
+inline PoseMotion motionSince(const Rigid& p, const Rigid& start, const Rigid& end) {
+  return {std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm()),
+          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm())};
+}
+
+/// Is `history` keyed to these inputs (else the query starts afresh)?
+template <class Field>
+bool coherenceMatches(const RigidCcdCoherence& c, const PointTree& tree, const Field& field, double sigma,
+                      double lipschitz) {
+  return c.treeId == tree.instanceId() && c.fieldId == field.instanceId() && c.nodeCount == tree.nodeCount() &&
+         c.sigma == sigma && c.lipschitz == lipschitz;
+}
+
+/// The whole-front test: true when every front entry's certificate holds for the step [start, end], checked per
+/// kept pose on the front's folded bounds (RigidCcdCoherence::PoseBound) instead of entry by entry. For each
+/// entry e at pose k, maxReach_k >= reach(e) and minSlack_k <= room(e) / kBoundGrowth - radius(e), so
+///   rotation_k maxReach_k + translation_k < minSlack_k
+/// implies (radius(e) + moved(e)) kBoundGrowth < room(e), the entry's own test (CoherentQuery::certified); the
+/// factor kBoundGrowth on the left keeps the folding's rounding (relative 1e-16) far inside that test's slack.
+/// Then no point can touch during the step and the query's answer is empty. False for a non-finite pose (the
+/// full query reports it).
+template <class Field>
+bool coherentFrontClear(const RigidCcdCoherence& c, const PointTree& tree, const Field& field,
+                        const RigidCcdSettings& settings, const Rigid& start, const Rigid& end) {
+  if (!c.frontCertified || c.front.empty() || c.poseBounds.size() != c.poses.size()) return false;
+  if (!coherenceMatches(c, tree, field, settings.sigma, fieldCullingBounds(field).lipschitz)) return false;
+  if (!start.matrix().allFinite() || !end.matrix().allFinite() || !std::isfinite(settings.sigma)) return false;
+  for (std::size_t k = 0; k < c.poses.size(); ++k) {
+    const RigidCcdCoherence::PoseBound& b = c.poseBounds[k];
+    if (b.maxReach < 0.0) continue;  // no entry at this pose
+    const PoseMotion m = motionSince(c.poses[k], start, end);
+    if (!((m.rotation * b.maxReach + m.translation) * tolerance::kBoundGrowth < b.minSlack)) return false;
+  }
+  return true;
 }
 
 template <class Field>
@@ -43,6 +90,7 @@ class CoherentQuery {
   void run(RigidCcdResult& out) {
     std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
     next.clear();
+    m_cache.frontCertified = false;  // until the new front is folded (an exception leaves the fast path off)
     const bool ascend = m_cache.queries++ % kAscentPeriod == 0;
     for (const RigidCcdCoherence::Entry& entry : m_cache.front) {
       if (certified(entry, 1.0)) {
@@ -54,6 +102,7 @@ class CoherentQuery {
     }
     m_cache.front.swap(next);
     compactPoses();
+    foldPoseBounds();
     std::sort(out.contacts.begin(), out.contacts.end(),
               [](const PointContact& a, const PointContact& b) { return a.point < b.point; });
     for (const auto& contact : out.contacts) out.firstFraction = std::min(out.firstFraction, contact.fraction);
@@ -64,31 +113,26 @@ class CoherentQuery {
   /// and each kept pose's largest distance to the step's two poses.
   void prepareCache(const Rigid& start, const Rigid& end) {
     RigidCcdCoherence& c = m_cache;
-    if (c.treeId != m_tree.instanceId() || c.fieldId != m_field.instanceId() || c.nodeCount != m_tree.nodeCount() ||
-        c.sigma != m_settings.sigma || c.lipschitz != m_bounds.lipschitz) {
+    if (!coherenceMatches(c, m_tree, m_field, m_settings.sigma, m_bounds.lipschitz)) {
       c.reset();
       c.treeId = m_tree.instanceId();
       c.fieldId = m_field.instanceId();
       c.nodeCount = m_tree.nodeCount();
       c.sigma = m_settings.sigma;
       c.lipschitz = m_bounds.lipschitz;
-      c.parent.assign(c.nodeCount, -1);
-      c.reachFromOrigin.resize(c.nodeCount);
-      for (int n = 0; n < c.nodeCount; ++n) {
-        c.reachFromOrigin[n] = m_tree.center(n).norm() + m_tree.radius(n);
-        for (int k = 0; k < m_tree.childCount(n); ++k) c.parent[m_tree.firstChild(n) + k] = n;
-      }
+      c.tables = rigidCcdTreeTables(m_tree);
       c.front.push_back({0, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None});
     }
+    m_parent = c.tables->parent.data();
+    m_reach = c.tables->reachFromOrigin.data();
     c.poses.push_back(end);
     m_endPose = static_cast<int>(c.poses.size()) - 1;
     m_rotation.resize(c.poses.size());
     m_translation.resize(c.poses.size());
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
-      const Rigid& p = c.poses[k];
-      m_rotation[k] = std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm());
-      m_translation[k] =
-          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm());
+      const PoseMotion m = motionSince(c.poses[k], start, end);
+      m_rotation[k] = m.rotation;
+      m_translation[k] = m.translation;
     }
   }
 
@@ -96,7 +140,7 @@ class CoherentQuery {
   /// (ascent: a parent that would fail at once is not worth it).
   bool certified(const RigidCcdCoherence::Entry& e, double headroom) const {
     if (e.kind == RigidCcdCoherence::Kind::None) return false;
-    const double moved = m_rotation[e.pose] * m_cache.reachFromOrigin[e.node] + m_translation[e.pose];
+    const double moved = m_rotation[e.pose] * m_reach[e.node] + m_translation[e.pose];
     return (m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth < e.room;
   }
 
@@ -182,7 +226,7 @@ class CoherentQuery {
     next.push_back(e);
     while (ascend) {
       const int node = next.back().node;
-      const int parent = m_cache.parent[node];
+      const int parent = m_parent[node];
       if (parent < 0) return;
       const int first = m_tree.firstChild(parent);
       const int count = m_tree.childCount(parent);
@@ -201,21 +245,45 @@ class CoherentQuery {
     }
   }
 
+  /// Folds the new front's certificates per pose for coherentFrontClear (maxReach < 0: no entry at that pose).
+  void foldPoseBounds() {
+    RigidCcdCoherence& c = m_cache;
+    c.frontCertified = true;
+    c.poseBounds.assign(c.poses.size(), {-1.0, 0.0});
+    for (const RigidCcdCoherence::Entry& e : c.front) {
+      if (e.kind == RigidCcdCoherence::Kind::None || e.pose < 0) {
+        c.frontCertified = false;
+        return;
+      }
+      RigidCcdCoherence::PoseBound& b = c.poseBounds[static_cast<std::size_t>(e.pose)];
+      const double slack = e.room / tolerance::kBoundGrowth - m_tree.radius(e.node);
+      if (b.maxReach < 0.0) {
+        b = {m_reach[e.node], slack};
+      } else {
+        b.maxReach = std::max(b.maxReach, m_reach[e.node]);
+        b.minSlack = std::min(b.minSlack, slack);
+      }
+    }
+  }
+
   /// Drops the poses no front entry refers to once there are many.
   void compactPoses() {
     RigidCcdCoherence& c = m_cache;
     if (c.poses.size() < kCoherencePoses) return;
-    std::vector<int> remap(c.poses.size(), -1);
+    // In place, in the cache's buffers: this runs on most queries of a long contact (allocation-free).
+    std::vector<int>& remap = c.scratchRemap;
+    remap.assign(c.poses.size(), -1);
     for (const auto& e : c.front) {
       if (e.pose >= 0) remap[static_cast<std::size_t>(e.pose)] = 0;
     }
-    std::vector<Rigid> kept;
+    std::size_t kept = 0;
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
       if (remap[k] < 0) continue;
-      remap[k] = static_cast<int>(kept.size());
-      kept.push_back(c.poses[k]);
+      remap[k] = static_cast<int>(kept);
+      if (kept != k) c.poses[kept] = c.poses[k];
+      ++kept;
     }
-    c.poses.swap(kept);
+    c.poses.resize(kept);
     for (auto& e : c.front) {
       if (e.pose >= 0) e.pose = remap[static_cast<std::size_t>(e.pose)];
     }
@@ -227,6 +295,8 @@ class CoherentQuery {
   const RigidCcdSettings& m_settings;
   RigidCcdCoherence& m_cache;
   FieldCullingBounds m_bounds;
+  const int* m_parent = nullptr;  // the shared tree tables (RigidCcdCoherence::TreeTables)
+  const double* m_reach = nullptr;
   int m_endPose = -1;
   std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
   std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|

@@ -108,6 +108,18 @@ template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult);
 
+/// The coherent query's fast path alone: when the certificates kept in `history` rule out every contact of
+/// this step (checked once per kept pose on the front's folded bounds, rigid_ccd_coherence.h, with no field
+/// lookup and no traversal), sets `outResult` to the empty answer (stats.certified = the front's size) and
+/// returns true; the query above would return no contact either. Otherwise returns false and changes nothing:
+/// run the query above. Always false where the query above does not use the history. The query above tries
+/// this first itself; callers call it directly to skip work around a query that has nothing to do (e.g. its
+/// clock: the contact query times only the queries that traverse).
+template <class Field>
+bool rigidCcdCertifiedClear(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart,
+                            const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings, RigidCcdCoherence& history,
+                            RigidCcdResult& outResult);
+
 /// The culling test of one tree node (what the traversal uses; exposed for tests): false only when no point
 /// below `node` can reach the level set sigma during the step. Never false for a node with a colliding point.
 template <class Field>

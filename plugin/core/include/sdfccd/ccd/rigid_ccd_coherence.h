@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "sdfccd/math_types.h"
@@ -37,7 +38,10 @@ class RigidCcdCoherence {
   /// Forgets the history: the next query starts at the root.
   void reset() {
     front.clear();
+    poseBounds.clear();
+    frontCertified = false;
     poses.clear();
+    tables.reset();
     treeId = 0;
     fieldId = 0;
   }
@@ -53,10 +57,23 @@ class RigidCcdCoherence {
     double room = 0.0;  // how far below the centre (radius + motion) the certificate allows
     Kind kind = Kind::None;
   };
+  /// Per kept pose, the front's certificates at that pose folded into one test (`clear` below): the largest
+  /// reach from the shell origin and the smallest room left over a node's radius (room / kBoundGrowth - radius).
+  struct PoseBound {
+    double maxReach = 0.0;
+    double minSlack = 0.0;
+  };
   std::vector<Entry> front;
-  std::vector<Rigid> poses;             // sdfFromShell at each certificate's pose
-  std::vector<int> parent;              // per tree node (-1: root)
-  std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
+  std::vector<PoseBound> poseBounds;  // per pose of `poses`, valid when frontCertified
+  bool frontCertified = false;        // every front entry carries a certificate (none is a contact or ignored)
+  /// Per-tree tables, the same for every history of one tree: shared (rigidCcdTreeTables in the query), so
+  /// that hundreds of pairs of one shape keep one copy warm in the cache instead of one each.
+  struct TreeTables {
+    std::vector<int> parent;              // per tree node (-1: root)
+    std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
+  };
+  std::vector<Rigid> poses;  // sdfFromShell at each certificate's pose
+  std::shared_ptr<const TreeTables> tables;
   std::uint64_t treeId = 0;   // the key: a query with other inputs starts afresh. Instance ids (instance_id.h),
   std::uint64_t fieldId = 0;  // not addresses: a new tree or field at a freed one's address must not match
   int nodeCount = 0;
@@ -67,6 +84,7 @@ class RigidCcdCoherence {
   std::vector<int> scratchStack;
   std::vector<double> scratchRotation;
   std::vector<double> scratchTranslation;
+  std::vector<int> scratchRemap;
 };
 
 }  // namespace sdfccd

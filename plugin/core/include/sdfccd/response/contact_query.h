@@ -26,7 +26,8 @@
 /// give k_i, and the pair's caps and damping ratio (perAreaCoefficients) are applied before integrating.
 ///
 /// Timing: the core keeps no clock. A caller that times the two phases passes its clocks (ContactQueryClocks);
-/// they are called once before and once after each phase, never inside the traversal.
+/// they are called once before and once after each phase, never inside the traversal. A CCD answered by the
+/// coherence history's certificates alone (rigidCcdCertifiedClear: no traversal, no contact) is not timed.
 ///
 /// Thread safety: as rigidCcd(): the tree and the field are read-only; one result per thread.
 #pragma once
