@@ -4,6 +4,8 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "sdfccd/haptics/contact_qp.h"
 #include "sdfccd/math_types.h"
@@ -147,6 +149,89 @@ void ContactQpSolver::solveFriction(const Mat6& massMatrix, const std::vector<Ve
   // Sticking (or pressed straight in): the solution is ~0. The Stuck test is geometric (frictionless cone).
   const int maxIterations = settings.maxIterationsPerRow * kept + 30;
   if (y.norm() <= settings.blockedTolerance * yNorm && !markBlocked(settings, maxIterations, outResult)) fail();
+}
+
+}  // namespace sdfccd::haptics
+
+namespace sdfccd::haptics {
+
+namespace {
+
+double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// Indices (into `points`) of the convex hull's vertices (Andrew's monotone chain; collinear points dropped).
+std::vector<int> convexHull2d(const std::vector<Eigen::Vector2d>& points) {
+  const int n = static_cast<int>(points.size());
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const Eigen::Vector2d& pa = points[static_cast<std::size_t>(a)];
+    const Eigen::Vector2d& pb = points[static_cast<std::size_t>(b)];
+    return pa.x() < pb.x() || (pa.x() == pb.x() && pa.y() < pb.y());
+  });
+  if (n <= 2) return order;
+  std::vector<int> hull(static_cast<std::size_t>(2 * n));
+  int k = 0;
+  auto at = [&](int i) -> const Eigen::Vector2d& { return points[static_cast<std::size_t>(i)]; };
+  for (int pass = 0; pass < 2; ++pass) {      // lower chain, then upper chain
+    const int floor = pass == 0 ? 2 : k + 2;  // the upper chain never pops the lower chain's points
+    for (int step = 0; step < n; ++step) {
+      const int i = order[static_cast<std::size_t>(pass == 0 ? step : n - 1 - step)];
+      while (k >= floor &&
+             cross2(at(hull[static_cast<std::size_t>(k - 2)]), at(hull[static_cast<std::size_t>(k - 1)]), at(i)) <= 0.0)
+        --k;
+      hull[static_cast<std::size_t>(k++)] = i;
+    }
+    --k;  // the last point starts the other chain
+  }
+  hull.resize(static_cast<std::size_t>(std::max(k, 1)));
+  return hull;
+}
+
+}  // namespace
+
+void reduceContactPatches(const std::vector<Vec3d>& normals, const std::vector<Vec3d>& handles, double angleTolerance,
+                          std::vector<Vec3d>& outNormals, std::vector<Vec3d>& outHandles) {
+  outNormals.clear();
+  outHandles.clear();
+  const std::size_t m = std::min(normals.size(), handles.size());
+  const double sinTolerance = std::sin(std::min(angleTolerance, 1.5));
+  std::vector<std::uint8_t> taken(m, 0);
+  std::vector<int> members;
+  std::vector<Eigen::Vector2d> projected;
+  for (std::size_t first = 0; first < m; ++first) {
+    if (taken[first]) continue;
+    const double len = normals[first].norm();
+    if (!(len > 0.0) || !std::isfinite(len) || !handles[first].allFinite()) {
+      outNormals.push_back(normals[first]);  // left for solveFriction to judge
+      outHandles.push_back(handles[first]);
+      continue;
+    }
+    const Vec3d n = normals[first] / len;
+    members.clear();
+    for (std::size_t k = first; k < m; ++k) {
+      if (taken[k]) continue;
+      // The sine of the angle (the cosine cannot resolve angles below ~1e-8); the first one always joins.
+      const bool same =
+          k == first || (normals[k].dot(n) > 0.0 && normals[k].cross(n).norm() <= sinTolerance * normals[k].norm());
+      if (same) {
+        members.push_back(static_cast<int>(k));
+        taken[k] = 1;
+      }
+    }
+    Vec3d t1, t2;
+    tangentBasis(n, t1, t2);
+    projected.clear();
+    for (int k : members)
+      projected.emplace_back(handles[static_cast<std::size_t>(k)].dot(t1),
+                             handles[static_cast<std::size_t>(k)].dot(t2));
+    for (int h : convexHull2d(projected)) {
+      outNormals.push_back(n);
+      outHandles.push_back(handles[static_cast<std::size_t>(members[static_cast<std::size_t>(h)])]);
+    }
+  }
 }
 
 }  // namespace sdfccd::haptics

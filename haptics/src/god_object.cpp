@@ -15,6 +15,12 @@
 
 namespace sdfccd::haptics {
 
+namespace {
+// Normals within this angle (rad) form one contact patch for the friction solve (reduceContactPatches): a flat
+// face of a grid field has gradients equal to about this; the error it admits is of that relative size.
+constexpr double kPatchAngle = 1e-6;
+}  // namespace
+
 template <class Field>
 GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rigid& worldFromSdf,
                             const Rigid& worldFromGodStart, const GodObjectSettings& settings)
@@ -138,7 +144,9 @@ void GodObject<Field>::solveContacts(const Mat6& mass, const Vec6& request) {
       m_normals.push_back(c.normalIntoObstacle);
       m_handles.push_back(c.handle);
     }
-    m_qp.solveFriction(mass, m_normals, m_handles, request, m_settings.qp, m_qpResult);
+    // Coplanar contacts (a face resting on a face: hundreds of points) reduce exactly to their hull.
+    reduceContactPatches(m_normals, m_handles, kPatchAngle, m_patchNormals, m_patchHandles);
+    m_qp.solveFriction(mass, m_patchNormals, m_patchHandles, request, m_settings.qp, m_qpResult);
     return;
   }
   m_rows.resize(static_cast<Eigen::Index>(m_contacts.size()), 6);

@@ -383,5 +383,39 @@ TEST(FrictionQp, BadSettingsOrInputFailWithZeroAcceleration) {
   EXPECT_EQ(solveOne(solver, Mat6::Identity(), nanNormal, handles, aU, 0.5, 8).state, ContactQpState::Failed);
 }
 
+// A face on a face: coplanar contacts with one normal reduce to the hull of their handles. Frictionless, the answer
+// is the same; with friction, the reduced answer meets every condition on its own set and no contact of the
+// full set penetrates (the hull's friction differs only under twist, see contact_qp.h).
+TEST(FrictionQp, CoplanarPatchesReduceToTheirHull) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  ContactQpSolver solver;
+  for (int trial = 0; trial < 40; ++trial) {
+    Problem p = randomProblem(rng, 0);
+    // Two patches: 15 points of a tilted floor plane and 10 of a side wall, each in its own plane.
+    const V3 floorNormal = V3(0.2 * u(rng), -1.0, 0.2 * u(rng)).normalized();
+    const V3 wallNormal = V3(1.0, 0.1 * u(rng), 0.1 * u(rng)).normalized();
+    for (int i = 0; i < 25; ++i) {
+      const V3 n = i < 15 ? floorNormal : wallNormal;
+      const V3 r = V3(u(rng), u(rng), u(rng)) * 0.5;
+      p.normals.push_back(n);
+      p.handles.push_back(r - n * (n.dot(r) - (i < 15 ? 0.4 : 0.3)));  // on the plane n . r = 0.4 (0.3)
+    }
+    Problem q = p;
+    reduceContactPatches(p.normals, p.handles, 1e-9, q.normals, q.handles);
+    EXPECT_LT(q.normals.size(), p.normals.size());
+    EXPECT_GE(q.normals.size(), 5u);  // two patches: at least a triangle and a segment
+    const ContactQpResult fullFree = solveOne(solver, p.mass, p.normals, p.handles, p.aU, 0.0, 8);
+    const ContactQpResult reducedFree = solveOne(solver, p.mass, q.normals, q.handles, p.aU, 0.0, 8);
+    EXPECT_LE((fullFree.acceleration - reducedFree.acceleration).norm(), 1e-9 * (1.0 + p.aU.norm())) << trial;
+    const double mu = 0.2 + 0.05 * (trial % 10);
+    const ContactQpResult reduced = solveOne(solver, p.mass, q.normals, q.handles, p.aU, mu, 8);
+    ASSERT_EQ(reduced.state, ContactQpState::Solved) << trial;
+    if (!reduced.blocked) expectFrictionKkt(q, reduced, mu, 8, trial);
+    for (std::size_t k = 0; k < p.normals.size(); ++k)
+      EXPECT_LE(wrench(p.normals[k], p.handles[k]).dot(reduced.acceleration), 1e-9 * (1.0 + p.aU.norm())) << trial;
+  }
+}
+
 }  // namespace friction_qp_test
 }  // namespace sdfccd::haptics

@@ -138,6 +138,20 @@ class ContactQpSolver {
   std::vector<Eigen::Vector3d> m_tangents;                // d_kj, world
 };
 
+/// Contact-patch reduction for solveFriction: contacts whose normals agree within `angleTolerance` (rad) form a
+/// patch; only the vertices of the convex hull of its handles, projected on the patch's tangent plane, are kept
+/// (with the patch's first normal). The constraint n . (v + w x r) <= 0 and the contact wrench [f; r x f] are
+/// affine in r, so a point inside the hull adds no constraint and no wrench its hull vertices cannot give:
+/// frictionless, the answer is the same (tested). With friction it is the same while the patch translates; under
+/// a twist about the normal, maximum dissipation acts per point and the hull vertices, farther from the twist
+/// axis, resist the twist more than the full patch would (an approximation, stated). Handles that differ along
+/// the normal (contacts within the contact threshold) change only the friction's torque arm, by at most that
+/// height. Why: a god-object resting a face on a plane has hundreds of contacts (187 in plane-slide.json) and the
+/// dense Lemke solve costs O(n^2) per pivot; the hull keeps a handful.
+void reduceContactPatches(const std::vector<Eigen::Vector3d>& normals, const std::vector<Eigen::Vector3d>& handles,
+                          double angleTolerance, std::vector<Eigen::Vector3d>& outNormals,
+                          std::vector<Eigen::Vector3d>& outHandles);
+
 /// One constraint row for a contact: normal `n` (the direction the god-object must not move along,
 /// i.e. into the obstacle; unit) and handle `r` from the god-object's centre of mass, both in world.
 inline Eigen::Matrix<double, 1, 6> contactRow(const Eigen::Vector3d& normalIntoObstacle,

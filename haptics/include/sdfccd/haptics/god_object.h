@@ -164,6 +164,8 @@ class GodObject {
   ContactQpResult m_qpResult;
   std::vector<Vec3> m_normals;  // solveContacts with friction: n_k and r_k of the contacts
   std::vector<Vec3> m_handles;
+  std::vector<Vec3> m_patchNormals;  // the same reduced to their patches' hulls (reduceContactPatches)
+  std::vector<Vec3> m_patchHandles;
   RigidCcdResult m_ccd;
   SegmentCcdResult m_segment;
   // The clearance cache (clearanceCache).
