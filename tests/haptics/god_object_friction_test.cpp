@@ -6,9 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 
+#include "haptics/haptic_test_scenes.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/haptics/god_object.h"
+#include "sdfccd/haptics/haptic_scene.h"
 #include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd::haptics {
@@ -128,6 +133,40 @@ TEST(GodObjectFriction, BadFrictionSettingsAreRejected) {
   s = frictionSettings(0.5);
   s.qp.frictionFaces = 2;
   EXPECT_THROW(GodObject<PlaneField>(tree, ground, Rigid::Identity(), at(Vec3(0, 0.05, 0)), s), Error);
+}
+
+// The plane-slide scene with `constraintExtra` added to its "constraint" object, written to a temporary file.
+std::string sceneWith(const std::string& constraintExtra, const std::string& fileName) {
+  std::ifstream in(test::scenePath("plane-slide.json"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string json = text.str();
+  const std::size_t at = json.find("\"constraint\": {");
+  EXPECT_NE(at, std::string::npos);
+  json.insert(at + std::string("\"constraint\": {").size(), constraintExtra);
+  const std::string path = ::testing::TempDir() + "/" + fileName;
+  std::ofstream(path) << json;
+  return path;
+}
+
+TEST(GodObjectFriction, SceneKeysAreReadAndABadValueNamesTheKey) {
+  EXPECT_EQ(loadHapticScene(test::scenePath("plane-slide.json")).god.qp.friction, 0.0);  // default: frictionless
+  const HapticScene scene = loadHapticScene(sceneWith("\"friction\": 0.4, \"frictionFaces\": 12, ", "fric_ok.json"));
+  EXPECT_EQ(scene.god.qp.friction, 0.4);
+  EXPECT_EQ(scene.god.qp.frictionFaces, 12);
+  for (const std::string& bad : {std::string("\"friction\": -0.5, "), std::string("\"frictionFaces\": 2, ")}) {
+    try {
+      loadHapticScene(sceneWith(bad, "fric_bad.json"));
+      ADD_FAILURE() << bad;
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(
+          message.find(bad.find("Faces") != std::string::npos ? "constraint.frictionFaces" : "constraint.friction"),
+          std::string::npos)
+          << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
 }
 
 }  // namespace god_object_friction_test
