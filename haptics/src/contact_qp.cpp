@@ -133,20 +133,8 @@ void ContactQpSolver::solve(const Mat6& massMatrix, const ConstraintRows& jacobi
     return;
   }
   const Eigen::Matrix<double, 6, Eigen::Dynamic> gT = llt.matrixL().solve(jacobian.transpose());
-  double longest = 0.0;
-  for (int k = 0; k < m; ++k) longest = std::max(longest, gT.col(k).norm());
-  m_columns.resize(6, m);
-  m_rowOfColumn.clear();
-  m_rowScale.clear();
-  int kept = 0;
-  for (int k = 0; k < m; ++k) {
-    const double len = gT.col(k).norm();
-    if (len <= settings.zeroRowTolerance * longest || len == 0.0) continue;
-    m_columns.col(kept++) = gT.col(k) / len;
-    m_rowOfColumn.push_back(k);
-    m_rowScale.push_back(1.0 / len);
-  }
-  m_columns.conservativeResize(6, kept);
+  setColumns(gT, settings.zeroRowTolerance);
+  const int kept = static_cast<int>(m_columns.cols());
   if (kept == 0) {
     outResult.acceleration = unconstrained;
     return;
@@ -171,24 +159,44 @@ void ContactQpSolver::solve(const Mat6& massMatrix, const ConstraintRows& jacobi
       outResult.maxViolation = std::max(outResult.maxViolation, jacobian.row(k).dot(outResult.acceleration) / len);
   }
 
-  if (y.norm() <= settings.blockedTolerance * yNorm) {
-    outResult.blocked = true;
-    outResult.acceleration.setZero();
-    if (settings.detectStuck) {
-      // The feasible cone is {0} exactly when its polar, the cone spanned by the columns, is all of R^6,
-      // i.e. when each of +-e_i projects to zero on the feasible cone.
-      bool spansAll = true;
-      for (int i = 0; i < 12 && spansAll; ++i) {
-        Vec6 e = Vec6::Zero();
-        e[i % 6] = i < 6 ? 1.0 : -1.0;
-        Vec6 r;
-        int it = 0;
-        if (!nnls(e, settings.optimalityTolerance, maxIterations, r, it)) return fail();
-        spansAll = r.norm() <= settings.blockedTolerance;
-      }
-      if (spansAll) outResult.state = ContactQpState::Stuck;
-    }
+  if (y.norm() <= settings.blockedTolerance * yNorm && !markBlocked(settings, maxIterations, outResult)) fail();
+}
+
+void ContactQpSolver::setColumns(const Eigen::Matrix<double, 6, Eigen::Dynamic>& gT, double zeroRowTolerance) {
+  const int m = static_cast<int>(gT.cols());
+  double longest = 0.0;
+  for (int k = 0; k < m; ++k) longest = std::max(longest, gT.col(k).norm());
+  m_columns.resize(6, m);
+  m_rowOfColumn.clear();
+  m_rowScale.clear();
+  int kept = 0;
+  for (int k = 0; k < m; ++k) {
+    const double len = gT.col(k).norm();
+    if (len <= zeroRowTolerance * longest || len == 0.0) continue;
+    m_columns.col(kept++) = gT.col(k) / len;
+    m_rowOfColumn.push_back(k);
+    m_rowScale.push_back(1.0 / len);
   }
+  m_columns.conservativeResize(6, kept);
+}
+
+bool ContactQpSolver::markBlocked(const ContactQpSettings& settings, int maxIterations, ContactQpResult& outResult) {
+  outResult.blocked = true;
+  outResult.acceleration.setZero();
+  if (!settings.detectStuck) return true;
+  // The feasible cone is {0} exactly when its polar, the cone spanned by the columns, is all of R^6,
+  // i.e. when each of +-e_i projects to zero on the feasible cone.
+  bool spansAll = true;
+  for (int i = 0; i < 12 && spansAll; ++i) {
+    Vec6 e = Vec6::Zero();
+    e[i % 6] = i < 6 ? 1.0 : -1.0;
+    Vec6 r;
+    int it = 0;
+    if (!nnls(e, settings.optimalityTolerance, maxIterations, r, it)) return false;
+    spansAll = r.norm() <= settings.blockedTolerance;
+  }
+  if (spansAll) outResult.state = ContactQpState::Stuck;
+  return true;
 }
 
 }  // namespace sdfccd::haptics

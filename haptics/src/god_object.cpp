@@ -15,6 +15,12 @@
 
 namespace sdfccd::haptics {
 
+namespace {
+// Normals within this angle (rad) form one contact patch for the friction solve (reduceContactPatches): a flat
+// face of a grid field has gradients equal to about this; the error it admits is of that relative size.
+constexpr double kPatchAngle = 1e-6;
+}  // namespace
+
 template <class Field>
 GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rigid& worldFromSdf,
                             const Rigid& worldFromGodStart, const GodObjectSettings& settings)
@@ -65,6 +71,10 @@ void GodObject<Field>::initialize(const Rigid& worldFromGodStart) {
     throw Error("god object: need 0 <= sigma, 0 <= contactThreshold, slideFloor <= sigma (finite)");
   if (!(settings.maxStepTranslation >= 0.0) || !(settings.maxStepRotation >= 0.0))
     throw Error("god object: step limits must be >= 0");
+  if (!(settings.qp.friction >= 0.0) || !std::isfinite(settings.qp.friction))
+    throw Error("god object: friction must be finite and >= 0");
+  if (settings.qp.frictionFaces < 3 || settings.qp.frictionFaces > 64)
+    throw Error("god object: frictionFaces must be in [3, 64]");
   if (!worldFromGodStart.matrix().allFinite()) throw Error("god object: non-finite pose");
   m_inContact.assign(static_cast<std::size_t>(tree.pointCount()), 0);
   m_notInContact.assign(static_cast<std::size_t>(tree.pointCount()), 1);
@@ -113,11 +123,8 @@ GodObjectStepResult GodObject<Field>::step(const Rigid& worldFromDevice) {
     if (len > 0.0) lift = (m_settings.depthCorrection * deepest / len) * outwards;
   }
   const Mat6 mass = massMatrix(m_settings.mass, worldInertia(m_pose, m_settings.inertiaDiagonal));
-  m_rows.resize(static_cast<Eigen::Index>(m_contacts.size()), 6);
-  for (std::size_t k = 0; k < m_contacts.size(); ++k)
-    m_rows.row(static_cast<Eigen::Index>(k)) = contactRow(m_contacts[k].normalIntoObstacle, m_contacts[k].handle);
   out.contactCount = static_cast<int>(m_contacts.size());
-  m_qp.solve(mass, m_rows, request, m_settings.qp, m_qpResult);
+  solveContacts(mass, request);
   out.qpState = m_qpResult.state;
   out.blocked = m_qpResult.blocked;
   out.constrained = m_qpResult.acceleration;
@@ -149,6 +156,27 @@ GodObjectStepResult GodObject<Field>::step(const Rigid& worldFromDevice) {
   }
   updateContacts(out);
   return out;
+}
+
+// Step 3: a_c, frictionless (NNLS on the dual, exactly as without friction) or with Coulomb friction (Lemke).
+template <class Field>
+void GodObject<Field>::solveContacts(const Mat6& mass, const Vec6& request) {
+  if (m_settings.qp.friction > 0.0) {
+    m_normals.clear();
+    m_handles.clear();
+    for (const GodObjectContact& c : m_contacts) {
+      m_normals.push_back(c.normalIntoObstacle);
+      m_handles.push_back(c.handle);
+    }
+    // Coplanar contacts (a face resting on a face: hundreds of points) reduce exactly to their hull.
+    reduceContactPatches(m_normals, m_handles, kPatchAngle, m_patchNormals, m_patchHandles);
+    m_qp.solveFriction(mass, m_patchNormals, m_patchHandles, request, m_settings.qp, m_qpResult);
+    return;
+  }
+  m_rows.resize(static_cast<Eigen::Index>(m_contacts.size()), 6);
+  for (std::size_t k = 0; k < m_contacts.size(); ++k)
+    m_rows.row(static_cast<Eigen::Index>(k)) = contactRow(m_contacts[k].normalIntoObstacle, m_contacts[k].handle);
+  m_qp.solve(mass, m_rows, request, m_settings.qp, m_qpResult);
 }
 
 // Step 5: the earliest contact fraction of the move; collects the reported points as candidates.

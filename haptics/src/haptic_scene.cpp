@@ -308,7 +308,8 @@ void readConstraint(const Reader& r, const Json& root, double cell, GodObjectSet
     const Json& c = r.object(root, "constraint", "");
     r.checkKeys(c,
                 {"couplingGain", "renderStiffness", "sigmaCells", "contactThresholdCells", "slideFloorCells",
-                 "sinkToleranceCells", "maxStepCells", "maxStepRotation", "depthCorrection"},
+                 "sinkToleranceCells", "maxStepCells", "maxStepRotation", "depthCorrection", "friction",
+                 "frictionFaces"},
                 where);
     g.couplingGain = r.positive(c, "couplingGain", where, g.couplingGain);
     g.renderStiffness = r.nonNegative(c, "renderStiffness", where, g.renderStiffness);
@@ -319,6 +320,8 @@ void readConstraint(const Reader& r, const Json& root, double cell, GodObjectSet
     g.maxStepTranslation = r.nonNegative(c, "maxStepCells", where, 2.0) * cell;
     g.maxStepRotation = r.nonNegative(c, "maxStepRotation", where, g.maxStepRotation);
     g.depthCorrection = r.nonNegative(c, "depthCorrection", where, g.depthCorrection);
+    g.qp.friction = r.nonNegative(c, "friction", where, g.qp.friction);
+    g.qp.frictionFaces = r.integer(c, "frictionFaces", where, g.qp.frictionFaces, 3, 64);
   }
   if (g.couplingGain > 1.0) r.fail("constraint.couplingGain", "must be in (0, 1]");
   if (g.slideFloor > g.sigma) r.fail("constraint.slideFloorCells", "must be <= sigmaCells");

@@ -156,7 +156,7 @@ TEST(HapticSession, WritesTickCsvAndSummaryJson) {
 // plane-slide with an absurd penalty stiffness (any positive value is allowed): the explicit-in-contact part of the
 // step flings the box off the plane within a few dozen ticks.
 HapticScene explodingPenaltyScene() {
-  HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  HapticScene scene = loadHapticScene(test::scenePath("plane-slide.json"));
   scene.penalty.contact.stiffness = 1e12;
   return scene;
 }
@@ -213,7 +213,7 @@ TEST(HapticGuard, RealTimeLoopStopsToo) {
 TEST(HapticGuard, ConstraintMethodGodObjectThrownAcrossTheWorldStops) {
   // A forced state: the scripted hand is 50 m away from the start and the god-object's step limit is lifted, so the
   // god-object follows the device at tens of m/s while the script itself never moves (no kinematic budget).
-  HapticScene scene = loadHapticScene(scenePath("plane-slide.json"));
+  HapticScene scene = loadHapticScene(test::scenePath("plane-slide.json"));
   Rigid far = Rigid::Identity();
   far.translation() = Vec3(50.0, 0.0101, 0.0);
   scene.script = UserScript({PoseKeyframe{0.0, far}, PoseKeyframe{0.5, far}});

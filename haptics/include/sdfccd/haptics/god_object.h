@@ -8,7 +8,8 @@
 ///   1. a_u = k_s (x_h - x_s)                                    (eq. 6; 6-D pose difference, world axes)
 ///   2. one row J_k = [n_k^T, (r_k x n_k)^T] per contact k        (eq. 7; n_k = -grad(phi)/|grad(phi)|, the
 ///      static object's normal pointing into it; r_k from the god-object's centre to the point)
-///   3. a_c = argmin ||a - a_u||_M subject to J a <= 0            (contact_qp.h)
+///   3. a_c = argmin ||a - a_u||_M subject to J a <= 0            (contact_qp.h; with qp.friction > 0, Coulomb
+///      friction on a linearised pyramid: the quasi-static Stewart-Trinkle LCP, contact_qp.h)
 ///   4. the tentative pose: one symplectic Euler step from rest with a unit cycle time, i.e. the
 ///      displacement a_c (quasi-static: k_s is the fraction of the gap closed per cycle), optionally scaled
 ///      down so that one cycle moves at most maxStepTranslation / maxStepRotation (scaling keeps J a <= 0)
@@ -98,8 +99,8 @@ struct GodObjectSettings {
   bool clearanceCache = true;                   ///< skip points that provably cannot reach sigma (see @details)
   OctreeMode octree = OctreeMode::Leaves;       ///< cell skipping at haptic rates (Section 4.1: leaves)
   CcdMethod ccdMethod = CcdMethod::Exact;
-  int threads = 1;  ///< CCD worker threads
-  ContactQpSettings qp;
+  int threads = 1;       ///< CCD worker threads
+  ContactQpSettings qp;  ///< includes the Coulomb friction coefficient qp.friction (0: frictionless, the NNLS)
 };
 
 /// One contact of the god-object.
@@ -157,6 +158,8 @@ class GodObject {
   void initialize(const Rigid& worldFromGodStart);
   /// Moving obstacles: moves them to m_obstacleTime and pushes the god-object out of their way.
   void pushByObstacles(GodObjectStepResult& out);
+  /// Step 3: the contact QP, with friction when settings.qp.friction > 0 (contact_qp.h); fills m_qpResult.
+  void solveContacts(const Mat6& mass, const Vec6& request);
   /// Step 5: the earliest contact fraction of the move; collects the reported points as candidates.
   double continuousFraction(const Rigid& tentative, GodObjectStepResult& out);
   /// The clearance cache (see @details): marks in m_skip the points that cannot reach sigma on the move.
@@ -182,6 +185,10 @@ class GodObject {
   ConstraintRows m_rows;
   ContactQpSolver m_qp;
   ContactQpResult m_qpResult;
+  std::vector<Vec3> m_normals;  // solveContacts with friction: n_k and r_k of the contacts
+  std::vector<Vec3> m_handles;
+  std::vector<Vec3> m_patchNormals;  // the same reduced to their patches' hulls (reduceContactPatches)
+  std::vector<Vec3> m_patchHandles;
   RigidCcdResult m_ccd;
   SegmentCcdResult m_segment;
   // The clearance cache (clearanceCache).
