@@ -11,6 +11,7 @@
 #include <string>
 
 #include "haptics/haptic_test_scenes.h"
+#include "sdfccd/error.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/haptics/god_object.h"
 #include "sdfccd/haptics/haptic_scene.h"
