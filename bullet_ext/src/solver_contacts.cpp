@@ -15,8 +15,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "contact_step.h"
+#include "parallel_step.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
@@ -135,9 +137,16 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
   ccd.octree = m_settings.octree;
   ccd.useTree = m_settings.useTree;
   ccd.threads = 1;
-  const double start = threadCpuSeconds();
-  rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, ccd, m_solverCcd);
-  const double seconds = threadCpuSeconds() - start;
+  // The CCD holds copies of its inputs: it may run later, on the pool (obtainQuery, parallel_step.h).
+  auto compute = [tree = &tree, held = detail::HeldField<Field>(field), sdfFromShellStart, sdfFromShellEnd,
+                  ccd](ContactQueryResult& out) {
+    const double start = threadCpuSeconds();
+    rigidCcd(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, out.ccd);
+    out.ccdSeconds = threadCpuSeconds() - start;
+  };
+  if (!obtainQuery(role, detail::kDeferrableField<Field>, compute, m_solverResult)) return;
+  std::swap(m_solverCcd, m_solverResult.ccd);  // what follows reads m_solverCcd; both keep their buffers
+  const double seconds = m_solverResult.ccdSeconds;
   m_stats.ccdSeconds += seconds;
   if constexpr (std::is_same_v<Field, PlaneField>) {
     m_stats.groundCcdSeconds += seconds;
