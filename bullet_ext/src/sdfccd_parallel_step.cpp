@@ -44,6 +44,10 @@
 namespace sdfccd {
 namespace {
 
+/// Steps a convex shape's cached hull and shells outlive its last pair (ConvexShapeCache::evictIdle): a shape that
+/// comes back later is rebuilt, which costs a few milliseconds once.
+constexpr std::int64_t kConvexCacheIdleSteps = 1000;
+
 /// A pair whose roles may all be planned: two of our shapes, or ours and a plane.
 bool plannablePair(const btCollisionShape* a, const btCollisionShape* b) {
   using detail::ShapeKind;
@@ -58,6 +62,7 @@ bool plannablePair(const btCollisionShape* a, const btCollisionShape* b) {
 void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
   m_plannedStep = m_stepCounter;
   m_deferred->clear();
+  m_convexShapes->evictIdle(m_stepCounter, kConvexCacheIdleSteps);  // once per step, before any pair
   if (m_world == nullptr || dispatchInfo.m_dispatchFunc != btDispatcherInfo::DISPATCH_DISCRETE) return;
   auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(m_world->getDispatcher());
   // A user's near callback may process other pairs than Bullet's: then nothing is planned.
