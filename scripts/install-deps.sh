@@ -14,7 +14,7 @@ packages=(
   nlohmann-json3-dev   # scene files and summaries
   libpng-dev           # frame output
   gnuplot-nox          # run plots (sdfccd plot), headless pngcairo terminal
-  libtbb-dev           # oneTBB: the parallel narrowphase's worker pool (sdfccd::bullet), OpenVDB peer
+  libtbb-dev           # parallel loops in the SDF builder and tree traversal
   libopenvdb-dev libboost-dev  # optional peer of `sdfccd bench segments` (OpenVDB LevelSetRayIntersector)
   clang libclang-rt-14-dev     # libFuzzer targets of the loaders (tests/fuzz; scripts/test.sh fuzz stage)
 )
