@@ -66,6 +66,7 @@ struct BenchBulletOptions {
   int peerFrames = 400;                           // frames of the peer comparison (0: the scene's); --quick halves it
   ModeBenchOptions modes;                         // --part modes and stable
   std::string scalingPlot = "bench_scaling.png";  // --part scaling's PNG
+  std::vector<int> scalingBodies;                 // --part scaling's pile sizes (empty: the defaults)
 };
 
 struct Table4Row {
@@ -377,6 +378,7 @@ int runBenchBullet(BenchBulletOptions o) {
     scaling.scenes = o.scenes;
     scaling.cache = o.cache;
     scaling.plot = o.scalingPlot;
+    scaling.bodies = o.scalingBodies;
     runScalingBench(scaling, csvRow);
   }
   if (!o.csv.empty()) {
@@ -399,6 +401,8 @@ const BenchRegistrar bench_bulletRegistrar(
       const CLI::Option* cache = addCacheOption(sub, o->cache, "Body model cache");
       sub.add_option("--part", o->part, "all, table4, fig10a, peer, modes, stable or scaling");
       sub.add_option("--scaling-plot", o->scalingPlot, "Scaling: the PNG (default bench_scaling.png; empty: none)");
+      sub.add_option("--scaling-bodies", o->scalingBodies, "Scaling: pile sizes (default 20,80,320; --quick 4,12)")
+          ->delimiter(',');
       sub.add_option("--mode-seconds", o->modes.timingSeconds,
                      "Modes: simulated seconds per world (default 1; --quick 0.3)");
       sub.add_option("--gimpact-seconds", o->modes.gimpactSeconds,

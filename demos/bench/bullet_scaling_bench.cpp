@@ -70,6 +70,7 @@ struct ScalingRun {
   double threadCpu = 0.0;   // s, the stepping thread
   double processCpu = 0.0;  // s, every thread of the process
   double queries = 0.0;     // CCD queries
+  double batch = 0.0;       // s, wall time of the parallel batches (SdfccdContactStatistics::parallelWallSeconds)
 };
 
 /// Steps `step` for `seconds` of simulated time at `dt`; `queries` reads the CCD query counter.
@@ -101,7 +102,12 @@ struct Config {
 void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
   using namespace scaling_bench;
   const Scene shipped = loadScene(o.scenes + "/drop-bunnies.json");
-  const std::vector<int> counts = o.quick ? std::vector<int>{4, 12} : std::vector<int>{20, 80, 320};
+  std::vector<int> counts = o.quick ? std::vector<int>{4, 12} : std::vector<int>{20, 80, 320};
+  if (!o.bodies.empty()) counts = o.bodies;
+  for (int n : counts) {
+    if (n < 1 || n > 5000)
+      throw Error("--scaling-bodies: each pile size must be in 1..5000 (got " + std::to_string(n) + ")");
+  }
   const double seconds = o.quick ? 0.1 : 1.5;
   const Config configs[] = {{"penalty 1 ms, 1 thread", SdfccdContactMode::Penalty, kScalingPenaltyStep, 1},
                             {"penalty 1 ms, 2 threads", SdfccdContactMode::Penalty, kScalingPenaltyStep, 2},
@@ -113,8 +119,8 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
       "  wall and thread CPU of the steps; process CPU counts every thread (the pool's too). Other engineers share "
       "this machine: times are under load unless the load average says otherwise.\n",
       seconds, std::thread::hardware_concurrency(), loadAverage().c_str());
-  std::printf("  %-28s %6s %7s %9s %9s %9s %11s %8s %8s\n", "world", "bodies", "steps", "wall ms", "thread ms",
-              "proc ms", "ms/body/st", "ccd/st", "x real");
+  std::printf("  %-28s %6s %7s %9s %9s %9s %11s %8s %8s %7s\n", "world", "bodies", "steps", "wall ms", "thread ms",
+              "proc ms", "ms/body/st", "ccd/st", "x real", "batch%");
   std::fflush(stdout);
   LinePlot plot;
   plot.title = "Step time per body (wall) against bodies in the pile";
@@ -143,8 +149,10 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
         for (int i = 0; i < world.bodyCount(); ++i) models.push_back(world.modelPtr(i));
       }
       const SdfccdContactStatistics& stats = world.contacts().statistics();
+      const double batch0 = stats.parallelWallSeconds;
       runs[c][k] =
           timeSteps([&world] { world.step(); }, configs[c].dt, seconds, [&stats] { return double(stats.ccdQueries); });
+      runs[c][k].batch = stats.parallelWallSeconds - batch0;
     }
     GImpactPeer hulls(pile, models, PeerShape::ConvexHull, kScalingSolverStep);
     runs.back()[k] = timeSteps([&hulls] { hulls.step(); }, kScalingSolverStep, seconds, [] { return 0.0; });
@@ -154,14 +162,16 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
       const double dt = c < std::size(configs) ? configs[c].dt : kScalingSolverStep;
       const double perBody = 1e3 * r.wall / r.frames / counts[k];
       const double realTime = r.frames * dt / r.wall;
-      std::printf("  %-28s %6d %7d %9.1f %9.1f %9.1f %11.4f %8.1f %8.3f\n", name, counts[k], r.frames, 1e3 * r.wall,
-                  1e3 * r.threadCpu, 1e3 * r.processCpu, perBody, r.queries / r.frames, realTime);
+      std::printf("  %-28s %6d %7d %9.1f %9.1f %9.1f %11.4f %8.1f %8.3f %6.1f%%\n", name, counts[k], r.frames,
+                  1e3 * r.wall, 1e3 * r.threadCpu, 1e3 * r.processCpu, perBody, r.queries / r.frames, realTime,
+                  r.wall > 0 ? 100.0 * r.batch / r.wall : 0.0);
       const std::string item = std::string(name) + " / " + std::to_string(counts[k]);
       csv("scaling", item, "wall_seconds", r.wall);
       csv("scaling", item, "thread_cpu_seconds", r.threadCpu);
       csv("scaling", item, "process_cpu_seconds", r.processCpu);
       csv("scaling", item, "wall_ms_per_step_and_body", perBody);
       csv("scaling", item, "ccd_queries_per_step", r.queries / r.frames);
+      csv("scaling", item, "batch_share_of_wall", r.wall > 0 ? r.batch / r.wall : 0.0);
       csv("scaling", item, "real_time_factor", realTime);
       series[c].label = name;
       series[c].x.push_back(counts[k]);
