@@ -24,7 +24,11 @@ void DeferredQueries::add(const void* manifold, int role, Compute compute) {
 
 void DeferredQueries::runAll(NarrowphasePool& pool) {
   pool.run(m_jobs.size(), [this](std::size_t i) {
-    m_jobs[i].compute(m_results[i]);
+    try {
+      m_jobs[i].compute(m_results[i]);
+    } catch (...) {
+      m_jobs[i].error = std::current_exception();  // an exception must not leave a worker thread
+    }
     m_jobs[i].done = true;
   });
 }
@@ -35,6 +39,7 @@ bool DeferredQueries::take(const void* manifold, int role, ContactQueryResult& o
   Job& job = m_jobs[found->second];
   if (!job.done || job.taken) return false;
   job.taken = true;
+  if (job.error) std::rethrow_exception(job.error);
   std::swap(out, m_results[found->second]);
   return true;
 }

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <exception>
 #include <functional>
 #include <type_traits>
 #include <unordered_map>
@@ -55,7 +56,7 @@ class DeferredQueries {
   /// Computes every query on `pool`, each into its own result.
   void runAll(NarrowphasePool& pool);
   /// Swaps the result of (manifold, role) into `out` (buffers circulate); false when there is none, or it was
-  /// taken already.
+  /// taken already. Rethrows what the query threw, where the serial narrowphase would have thrown it.
   bool take(const void* manifold, int role, ContactQueryResult& out);
 
  private:
@@ -71,6 +72,7 @@ class DeferredQueries {
   };
   struct Job {
     Compute compute;
+    std::exception_ptr error;  // thrown on a worker: rethrown by take() on the stepping thread
     bool done = false;
     bool taken = false;
   };

@@ -33,6 +33,7 @@
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 
 #include <chrono>
+#include <optional>
 
 #include "bullet_shape_fields.h"
 #include "deferred_queries.h"
@@ -68,7 +69,12 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
   // A user's near callback may process other pairs than Bullet's: then nothing is planned.
   if (dispatcher == nullptr || dispatcher->getNearCallback() != &btCollisionDispatcher::defaultNearCallback) return;
   btBroadphasePairArray& pairs = m_world->getPairCache()->getOverlappingPairArray();
-  m_planning = true;
+  struct PlanningScope {  // planning mode ends however processPair leaves
+    explicit PlanningScope(bool& flag) : planning(flag) { planning = true; }
+    ~PlanningScope() { planning = false; }
+    bool& planning;
+  };
+  std::optional<PlanningScope> scope(std::in_place, m_planning);
   for (int i = 0; i < pairs.size(); ++i) {
     auto* algorithm = dynamic_cast<SdfccdCollisionAlgorithm*>(pairs[i].m_algorithm);
     if (algorithm == nullptr || !algorithm->plannable(this)) continue;
@@ -84,7 +90,7 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     btManifoldResult unused(&wrap0, &wrap1);
     processPair(&wrap0, &wrap1, dispatchInfo, &unused, algorithm->manifold(), algorithm->solverPair(), false);
   }
-  m_planning = false;
+  scope.reset();
   const auto start = std::chrono::steady_clock::now();
   m_deferred->runAll(*m_pool);
   m_stats.parallelWallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

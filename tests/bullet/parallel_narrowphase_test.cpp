@@ -1,14 +1,20 @@
 // The parallel narrowphase (issue 17 item 1) and resting pairs (item 2). The pairs' CCD runs on a pool; Bullet
 // sees the results serially in its pair order, so a run must end in the very same state for any thread count.
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "../../bullet_ext/src/bullet_shape_fields.h"
+#include "../../bullet_ext/src/deferred_queries.h"
+#include "../../bullet_ext/src/narrowphase_pool.h"
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
 
@@ -114,6 +120,86 @@ TEST(ParallelNarrowphase, SleepingPileRunsNoCcd) {
   before = stats.ccdQueries;
   world.step();
   EXPECT_GT(stats.ccdQueries - before, 0);
+}
+
+}  // namespace
+}  // namespace sdfccd
+
+// The pool, the deferred queries and the convex-shape cache directly (private headers of sdfccd::bullet).
+
+namespace sdfccd {
+namespace {
+
+// Every index of every batch runs exactly once, whatever the thread count and batch size (empty batches too).
+TEST(NarrowphasePool, EveryIndexOnceForManyBatches) {
+  for (int threads : {1, 2, 4}) {
+    detail::NarrowphasePool pool(threads);
+    EXPECT_EQ(pool.threads(), threads);
+    std::vector<std::atomic<int>> hits(64);
+    int expected[64] = {};
+    for (int batch = 0; batch < 300; ++batch) {
+      const std::size_t count = static_cast<std::size_t>(batch % 65);
+      pool.run(count, [&](std::size_t i) { hits[i].fetch_add(1); });
+      for (std::size_t i = 0; i < count; ++i) ++expected[i];
+    }
+    for (std::size_t i = 0; i < hits.size(); ++i)
+      EXPECT_EQ(hits[i].load(), expected[i]) << threads << " threads, " << i;
+  }
+}
+
+// A query that throws on a worker is rethrown where its result is taken; a result is taken once; unknown keys
+// have none.
+TEST(DeferredQueries, ResultsTakenOnceAndErrorsRethrown) {
+  detail::NarrowphasePool pool(2);
+  detail::DeferredQueries queries;
+  int manifolds[3];
+  queries.add(&manifolds[0], 0, [](ContactQueryResult& out) { out.ccdSeconds = 1.5; });
+  queries.add(&manifolds[0], 1, [](ContactQueryResult& out) { out.ccdSeconds = 2.5; });
+  queries.add(&manifolds[1], 0, [](ContactQueryResult&) { throw std::runtime_error("query failed"); });
+  EXPECT_EQ(queries.size(), 3u);
+  ContactQueryResult out;
+  EXPECT_FALSE(queries.take(&manifolds[0], 0, out)) << "not computed yet";
+  queries.runAll(pool);
+  ASSERT_TRUE(queries.take(&manifolds[0], 1, out));
+  EXPECT_EQ(out.ccdSeconds, 2.5);
+  ASSERT_TRUE(queries.take(&manifolds[0], 0, out));
+  EXPECT_EQ(out.ccdSeconds, 1.5);
+  EXPECT_FALSE(queries.take(&manifolds[0], 0, out)) << "taken twice";
+  EXPECT_FALSE(queries.take(&manifolds[2], 0, out)) << "never planned";
+  EXPECT_THROW(queries.take(&manifolds[1], 0, out), std::runtime_error);
+  queries.clear();
+  EXPECT_EQ(queries.size(), 0u);
+}
+
+// The convex cache serves a shape by its address while it is unchanged, builds anew when it changes, and drops
+// what no pair used for the idle steps.
+TEST(ConvexShapeCache, AddressLookupFollowsChangesAndEvictsIdleEntries) {
+  btConvexHullShape hull;
+  for (int corner = 0; corner < 8; ++corner) {
+    hull.addPoint(btVector3(corner & 1 ? 0.1f : -0.1f, corner & 2 ? 0.2f : -0.2f, corner & 4 ? 0.3f : -0.3f));
+  }
+  detail::ConvexShapeCache cache;
+  cache.evictIdle(0, 10);
+  const ConvexPolytopeField* first = cache.field(&hull);
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(cache.field(&hull), first);
+  EXPECT_EQ(cache.size(), 1u);
+  // A far point changes the hull at the same address: a new entry, whose field reaches the point.
+  hull.addPoint(btVector3(1.0f, 0.0f, 0.0f));
+  const ConvexPolytopeField* grown = cache.field(&hull);
+  ASSERT_NE(grown, nullptr);
+  EXPECT_NE(grown, first);
+  EXPECT_EQ(cache.size(), 2u);
+  EXPECT_LT(grown->distance(Vec3(0.9, 0.0, 0.0)), 0.0);
+  EXPECT_GT(first->distance(Vec3(0.9, 0.0, 0.0)), 0.0);
+  // Step 5 uses the grown hull again; at step 12 the first (last used at step 0) is idle for more than 10 steps.
+  cache.evictIdle(5, 10);
+  EXPECT_EQ(cache.field(&hull), grown);
+  cache.evictIdle(12, 10);
+  EXPECT_EQ(cache.size(), 1u);
+  EXPECT_EQ(cache.field(&hull), grown);
+  cache.evictIdle(100, 10);
+  EXPECT_EQ(cache.size(), 0u);
 }
 
 }  // namespace
