@@ -19,9 +19,11 @@
 /// Roles not planned (other shapes, compound children, a pair seen for the first time) compute on the spot.
 ///
 /// Same start state for every pair: in penalty mode with ForceTiming::SameStep the impulses reach the velocities
-/// in the narrowphase, and before this plan a body first met after an earlier pair's impulse predicted its motion
-/// from the changed velocity. Now every planned body's motion is predicted before any impulse, whatever the thread
-/// count, which makes a step bit-identical for 1, 2 or n threads (the golden hash changed once for this).
+/// in the narrowphase, so a query must not read a velocity an earlier pair changed. It never did: bodyStep() caches
+/// each body's predicted motion at its first pair of the step, and an impulse only reaches the bodies of the pair
+/// being processed, whose motions are cached by then. Planning predicts every planned body's motion before any
+/// impulse, which keeps that, so a step is bit-identical for 1, 2 or n threads and to the serial narrowphase
+/// before the plan (the golden hash, tests/bullet/golden_hash_test.cpp, did not change).
 ///
 /// What the queries touch from several threads: the tree and field of a model (read-only), the pair and role's
 /// friction anchors and CCD history (one query each), the core's thread_local CCD scratch (rigid_ccd_query.h);
