@@ -166,7 +166,7 @@ struct SdfccdPairContact {
 
 /// Counters, cumulative since construction.
 struct SdfccdContactStatistics {
-  double ccdSeconds = 0.0;            ///< CPU time of the calling thread in rigid CCD queries (s), all fields
+  double ccdSeconds = 0.0;  ///< thread CPU time of rigid CCD queries (s), all fields, on whichever thread ran them
   double groundCcdSeconds = 0.0;      ///< the part of ccdSeconds spent against static planes (s)
   double shadowLinearSeconds = 0.0;   ///< point-by-point repeats (shadowLinearEvery), between bodies only (s)
   std::int64_t shadowSteps = 0;       ///< steps in which the repeats ran
