@@ -50,9 +50,8 @@ void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
     throw Error("contact settings: contact.model discrete applies to penalty mode only (contact.mode is solver)");
   }
   if (settings.threads < 0) throw Error("contact settings: threads must be >= 0 (0: all hardware threads)");
-  if (!m_pool || m_pool->threads() != detail::resolveThreads(settings.threads)) {
-    m_pool = std::make_unique<detail::NarrowphasePool>(settings.threads);
-  }
+  // The pool starts with the first planned step that has queries (planStep): a world that never steps starts none.
+  if (m_pool && m_pool->threads() != detail::resolveThreads(settings.threads)) m_pool.reset();
   m_settings = settings;
 }
 

@@ -35,6 +35,7 @@
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 
 #include <chrono>
+#include <memory>
 #include <optional>
 
 #include "bullet_shape_fields.h"
@@ -93,6 +94,8 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     processPair(&wrap0, &wrap1, dispatchInfo, &unused, algorithm->manifold(), algorithm->solverPair(), false);
   }
   scope.reset();
+  if (m_deferred->size() == 0) return;
+  if (!m_pool) m_pool = std::make_unique<detail::NarrowphasePool>(m_settings.threads);
   const auto start = std::chrono::steady_clock::now();
   m_deferred->runAll(*m_pool);
   m_stats.parallelWallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

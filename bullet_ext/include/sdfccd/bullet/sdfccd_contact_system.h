@@ -129,7 +129,9 @@ struct SdfccdContactSettings {
   int shadowLinearEvery = 0;
   /// Narrowphase threads (issue 17): the CCD of the step's pairs of our shapes (and of ours against ground
   /// planes), both roles, runs on a persistent pool of this many threads (sdfccd_parallel_step.cpp); 0: the
-  /// machine's hardware threads; 1: on the stepping thread. Results are bit-identical for every value.
+  /// machine's hardware threads; 1: on the stepping thread. Results are bit-identical for every value. The pool's
+  /// threads (this many minus the stepping thread) start at the first step with queries and stay parked between
+  /// steps until the system goes.
   int threads = 0;
 };
 
