@@ -253,6 +253,7 @@ void registerOurPairs(btCollisionDispatcher& dispatcher, int ours, btCollisionAl
 }
 
 struct ConvexShapeCache::Entry {
+  std::int64_t lastUse = 0;                    // evictIdle's step
   std::unique_ptr<ConvexPolytopeField> field;  // null: degenerate hull
   std::vector<std::vector<int>> faces;         // the hull's faces: outward loops of field->vertices()
   Box3 box;                                    // with the margin
@@ -262,7 +263,65 @@ struct ConvexShapeCache::Entry {
 ConvexShapeCache::ConvexShapeCache() = default;
 ConvexShapeCache::~ConvexShapeCache() = default;
 
+namespace {
+
+/// What tells a shape at a known address from another one there (see ConvexShapeCache): its type, margin and
+/// scaling, and a hull's or point cloud's own points, or else its support points in the 6 axis and 8 diagonal
+/// directions (with the margin).
+std::vector<double> convexFingerprint(const btConvexShape* shape) {
+  const btVector3 scaling = shape->getLocalScaling();
+  std::vector<double> f = {double(shape->getShapeType()), double(shape->getMargin()), double(scaling.x()),
+                           double(scaling.y()), double(scaling.z())};
+  auto add = [&f](const btVector3& p) { f.insert(f.end(), {double(p.x()), double(p.y()), double(p.z())}); };
+  if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+    const auto* hull = static_cast<const btConvexHullShape*>(shape);
+    for (int i = 0; i < hull->getNumPoints(); ++i) add(hull->getScaledPoint(i));
+  } else if (shape->getShapeType() == CONVEX_POINT_CLOUD_SHAPE_PROXYTYPE) {
+    const auto* cloud = static_cast<const btConvexPointCloudShape*>(shape);
+    for (int i = 0; i < cloud->getNumPoints(); ++i) add(cloud->getScaledPoint(i));
+  } else {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const btScalar sign : {btScalar(1), btScalar(-1)}) {
+        btVector3 d(0, 0, 0);
+        d[axis] = sign;
+        add(shape->localGetSupportingVertex(d));
+      }
+    }
+    for (int corner = 0; corner < 8; ++corner) {
+      add(shape->localGetSupportingVertex(btVector3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1)));
+    }
+  }
+  return f;
+}
+
+}  // namespace
+
+void ConvexShapeCache::evictIdle(std::int64_t now, std::int64_t idleSteps) {
+  m_now = now;
+  for (auto it = m_recent.begin(); it != m_recent.end();) {
+    it = it->second.lastUse + idleSteps < now ? m_recent.erase(it) : std::next(it);
+  }
+  // An entry is used whenever an address that leads to it is, so its addresses went above.
+  for (auto it = m_entries.begin(); it != m_entries.end();) {
+    it = it->second->lastUse + idleSteps < now ? m_entries.erase(it) : std::next(it);
+  }
+}
+
 ConvexShapeCache::Entry& ConvexShapeCache::entry(const btConvexShape* shape) {
+  std::vector<double> fingerprint = convexFingerprint(shape);
+  const auto recent = m_recent.find(shape);
+  if (recent != m_recent.end() && recent->second.fingerprint == fingerprint) {
+    recent->second.lastUse = m_now;
+    recent->second.entry->lastUse = m_now;
+    return *recent->second.entry;
+  }
+  Entry& found = entryByContent(shape);
+  found.lastUse = m_now;
+  m_recent[shape] = Recent{std::move(fingerprint), &found, m_now};
+  return found;
+}
+
+ConvexShapeCache::Entry& ConvexShapeCache::entryByContent(const btConvexShape* shape) {
   const std::vector<Vec3> points = supportPoints(shape);
   const double margin = grownByMargin(shape->getShapeType()) ? double(shape->getMargin()) : 0.0;
   std::string key(reinterpret_cast<const char*>(points.data()), points.size() * sizeof(Vec3));

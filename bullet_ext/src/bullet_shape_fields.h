@@ -26,6 +26,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sdfccd/field/polytope_fields.h"
 #include "sdfccd/math_types.h"
@@ -48,8 +49,13 @@ ShapeKind shapeKind(const btCollisionShape* shape);
 void registerOurPairs(btCollisionDispatcher& dispatcher, int ours, btCollisionAlgorithmCreateFunc* contacts,
                       btCollisionAlgorithmCreateFunc* closest, btCollisionAlgorithmCreateFunc* empty);
 
-/// The convex shapes' fields and shells, cached (see the file comment). Not thread safe (the narrowphase is
-/// single threaded).
+/// The convex shapes' fields and shells, cached (see the file comment). Not thread safe: used on the stepping
+/// thread only (roles with these shapes are never in the parallel batch, deferred_queries.h).
+/// Lookups go first by the shape's address, checked against a fingerprint (type, margin, scaling, and a hull's
+/// or point cloud's points, or the support points in 14 directions): a pair-step costs that, not the 518
+/// support points of the content key; an address a freed shape hands on to a different shape fails the check
+/// (a new shape whose fingerprint matches in every one of these is taken for the old one). Entries unused for
+/// evictIdle's idle steps are dropped.
 class ConvexShapeCache {
  public:
   ConvexShapeCache();
@@ -65,12 +71,23 @@ class ConvexShapeCache {
   const PointTree* shell(const btConvexShape* shape, double spacing, int maxPoints);
   /// The smallest size of its box (with the margin; m): the shell spacing's upper bound works from it.
   double thinnestExtent(const btConvexShape* shape);
+  /// Once per step: `now` is the step's number; entries and addresses unused for more than `idleSteps` go.
+  void evictIdle(std::int64_t now, std::int64_t idleSteps);
+  std::size_t size() const { return m_entries.size(); }  ///< cached hulls
 
  private:
   struct Entry;
+  struct Recent {
+    std::vector<double> fingerprint;
+    Entry* entry = nullptr;
+    std::int64_t lastUse = 0;
+  };
   Entry& entry(const btConvexShape* shape);
+  Entry& entryByContent(const btConvexShape* shape);  // the 518 support points' key
 
   std::map<std::string, std::unique_ptr<Entry>> m_entries;  // by support points, margin
+  std::map<const btConvexShape*, Recent> m_recent;          // by address, checked by fingerprint
+  std::int64_t m_now = 0;
 };
 
 /// The triangles of a Mesh shape that overlap `boxInShape` (three vertices each, its frame, scaling applied).

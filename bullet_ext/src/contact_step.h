@@ -77,6 +77,9 @@ struct SdfccdContactSystem::Role {
   const PenaltySettings* penalty = nullptr;  // the pair's penalty parameters (per-body overrides combined)
   FrictionAnchorTable* anchors = nullptr;    // this pair and role's anchors, kept across steps
   RigidCcdCoherence* coherence = nullptr;    // this pair and role's CCD front, kept across steps
+  const void* manifold = nullptr;            // with `index`: the key of a planned query (deferred_queries.h)
+  int index = 0;                             // the role's index in its pair
+  bool deferrable = false;                   // our shell against our field or a plane: may run in the batch
 };
 
 /// The friction anchors of one pair and role, kept across steps (design 2.4), keyed by the pair's manifold.

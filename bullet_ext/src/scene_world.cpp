@@ -191,6 +191,7 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   SdfccdContactSettings contactSettings = contactSettingsFor(m_scene);
   contactSettings.shadowLinearEvery = settings.shadowLinearEvery;
   contactSettings.coherentCcd = settings.coherentCcd;
+  contactSettings.threads = settings.narrowphaseThreads;
   m_contacts = registerSdfccdAlgorithms(m_world, contactSettings);
 
   if (m_scene.has("ground")) {

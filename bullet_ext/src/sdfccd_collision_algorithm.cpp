@@ -41,6 +41,11 @@ void SdfccdCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* 
   m_system->processPair(wrap0, wrap1, dispatchInfo, resultOut, m_manifold, m_solverPair, m_closestPointsOnly);
 }
 
+bool SdfccdCollisionAlgorithm::plannable(const SdfccdContactSystem* system) const {
+  if (system != m_system || m_closestPointsOnly || m_manifold == nullptr) return false;
+  return m_solverPair != nullptr || m_system->settings().mode != SdfccdContactMode::Solver;
+}
+
 void SdfccdCollisionAlgorithm::getAllContactManifolds(btManifoldArray& manifoldArray) {
   if (m_manifold != nullptr) manifoldArray.push_back(m_manifold);
   SdfccdContactSystem::solverPairManifolds(m_solverPair, manifoldArray);

@@ -1,8 +1,9 @@
 /// @file
-/// @brief SdfccdContactSystem's narrowphase (Section 4.1 and 5; see sdfccd_contact_system.h): settings and
-/// registration, each body's motion over the step, each pair's roles, queryContacts per role, manifold points
-/// and the clamping decision. The response after integrateTransforms is in sdfccd_contact_response.cpp, the
-/// convex shapes' surface points in sdfccd_convex_shells.cpp.
+/// @brief SdfccdContactSystem's narrowphase (Section 4.1 and 5; see sdfccd_contact_system.h): each body's
+/// motion over the step, each pair's roles, queryContacts per role, manifold points and the clamping decision.
+/// Settings and registration are in sdfccd_contact_settings.cpp, the step's parallel plan in
+/// sdfccd_parallel_step.cpp, the response after integrateTransforms in sdfccd_contact_response.cpp, the convex
+/// shapes' surface points in sdfccd_convex_shells.cpp.
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -26,6 +27,9 @@
 #include "contact_step.h"
 #include "convex_fields.h"
 #include "motion_prediction.h"
+#include "narrowphase_pool.h"
+#include "parallel_step.h"
+#include "resting_pairs.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
@@ -54,60 +58,12 @@ double steadySeconds() {
 
 SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings)
     : m_convexShapes(std::make_unique<detail::ConvexShapeCache>()),
-      m_log([](const std::string& line) { std::cerr << line << '\n'; }) {
+      m_log([](const std::string& line) { std::cerr << line << '\n'; }),
+      m_deferred(std::make_unique<detail::DeferredQueries>()) {
   setSettings(settings);
 }
 
 SdfccdContactSystem::~SdfccdContactSystem() = default;
-
-void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
-  const PenaltySettings& p = settings.penalty;
-  if (!(p.friction >= 0.0) || !std::isfinite(p.friction) || !(p.frictionSlipSpeed > 0.0)) {
-    throw Error("contact settings: friction must be finite and >= 0, frictionSlipSpeed > 0");
-  }
-  if (!(p.stiffness >= 0.0) || !std::isfinite(p.stiffness) || !(p.damping >= 0.0) || !std::isfinite(p.damping) ||
-      p.subintervals < 1) {
-    throw Error("contact settings: stiffness and damping must be finite and >= 0, subintervals >= 1");
-  }
-  if (!(p.stiffnessPerArea >= 0.0) || !std::isfinite(p.stiffnessPerArea)) {
-    throw Error("contact settings: stiffnessPerArea (contact.stiffness_per_area) must be finite and >= 0");
-  }
-  if (!(p.dampingRatio <= 2.0) || !std::isfinite(p.dampingRatio)) {
-    throw Error("contact settings: dampingRatio (contact.damping_ratio) must be in [0, 2]");
-  }
-  p.caps.validate();
-  if (!(settings.toiDepthCells >= 0.0) || !std::isfinite(settings.toiDepthCells)) {
-    throw Error("contact settings: toiDepthCells must be finite and >= 0");
-  }
-  if (!(settings.convexPointSpacingCells > 0.0) || !std::isfinite(settings.convexPointSpacingCells) ||
-      settings.convexMaxPoints < 12) {
-    throw Error("contact settings: convexPointSpacingCells must be positive and finite, convexMaxPoints >= 12");
-  }
-  if (settings.maxManifoldPoints < 0 || settings.maxManifoldPoints > 4) {
-    throw Error("contact settings: maxManifoldPoints must be in 0..4");
-  }
-  if (!(settings.speculativeMarginCells > 0.0) || !std::isfinite(settings.speculativeMarginCells) ||
-      !(settings.maxSpeculativeMargin > 0.0) || !std::isfinite(settings.maxSpeculativeMargin)) {
-    throw Error("contact settings: speculativeMarginCells and maxSpeculativeMargin must be positive and finite");
-  }
-  if (settings.mode == SdfccdContactMode::Solver && p.model == PenaltyModel::Discrete) {
-    throw Error("contact settings: contact.model discrete applies to penalty mode only (contact.mode is solver)");
-  }
-  m_settings = settings;
-}
-
-void SdfccdContactSystem::registerWith(btCollisionDispatcher& dispatcher) {
-  m_createFuncs.clear();
-  m_createFuncs.push_back(std::make_unique<SdfccdCollisionAlgorithm::CreateFunc>(this, false));
-  m_createFuncs.push_back(std::make_unique<SdfccdCollisionAlgorithm::CreateFunc>(this, true));
-  m_createFuncs.push_back(std::make_unique<btEmptyAlgorithm::CreateFunc>());
-  btCollisionAlgorithmCreateFunc* contacts = m_createFuncs[0].get();
-  btCollisionAlgorithmCreateFunc* closest = m_createFuncs[1].get();
-  btCollisionAlgorithmCreateFunc* empty = m_createFuncs[2].get();
-  // Ours against every type but compounds (Bullet's compound algorithms dispatch their children back here)
-  // and btEmptyShape: processPair decides, and announces what it cannot handle (bullet_shape_fields.h).
-  detail::registerOurPairs(dispatcher, CUSTOM_CONCAVE_SHAPE_TYPE, contacts, closest, empty);
-}
 
 SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionObjectWrapper* wrap, double timeStep,
                                                              bool contactMass) {
@@ -148,6 +104,13 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
                                       const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut,
                                       btPersistentManifold* manifold, SdfccdSolverPair* solverPair,
                                       bool closestPointsOnly) {
+  // The step's first pair plans the step: every pair of ours computed at once, on the pool.
+  if (!closestPointsOnly && !m_planning && m_plannedStep != m_stepCounter) planStep(dispatchInfo);
+  // Neither body moves (sleeping, static, kinematic at rest): no CCD, and the manifold keeps its points.
+  if (!closestPointsOnly && detail::pairAtRest(*wrap0->getCollisionObject(), *wrap1->getCollisionObject())) {
+    if (!m_planning) ++m_stats.restingPairs;
+    return;
+  }
   const btCollisionShape* shape0 = wrap0->getCollisionShape();
   const btCollisionShape* shape1 = wrap1->getCollisionShape();
   const ShapeKind kind0 = detail::shapeKind(shape0);
@@ -157,11 +120,11 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   const ShapeKind otherKind = ours0 ? kind1 : kind0;
   // Solver mode keeps its points across steps (solver_manifolds.cpp); penalty mode reports afresh each step.
   const bool solver = m_settings.mode == SdfccdContactMode::Solver && !closestPointsOnly && solverPair != nullptr;
-  if (!solver) {
+  if (!solver && !m_planning) {
     manifold->clearManifold();
     if (!closestPointsOnly) manifold->setContactProcessingThreshold(-BT_LARGE_FLOAT);
   }
-  resultOut->setPersistentManifold(manifold);
+  if (!m_planning) resultOut->setPersistentManifold(manifold);
   // Unsupported: no shape of ours (btSdfCollisionShape shares our type id), a shape we cannot read, or a convex
   // shape without volume (its shell or field would be null).
   const bool convexOk = otherKind != ShapeKind::Convex ||
@@ -185,7 +148,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   // A body with a non-finite state (set by the user; Bullet integrates whatever it is given) takes part in
   // no contact: its impulses would carry the NaN into the other body.
   if (!m_bodies[index0].finite() || !m_bodies[index1].finite()) {
-    ++m_stats.nonFinitePairs;
+    if (!m_planning) ++m_stats.nonFinitePairs;
     if (closestPointsOnly) {
       m_bodies.swap(savedBodies);
       m_bodyIndex.swap(savedIndex);
@@ -240,6 +203,8 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     role.friction = std::clamp(friction, 0.0, kMaxCombinedFriction);
     role.dampingRatio = dampingRatio;
     role.penalty = &pairPenalty;
+    role.manifold = manifold;
+    role.index = roleIndex;
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
     const bool anchors = !closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor;
@@ -255,6 +220,9 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
       if (coherent) role.coherence = &slot.coherence;
     }
     ++roleIndex;
+    // Our shell against our field or a plane may run in the step's parallel batch (deferred_queries.h).
+    role.deferrable = !closestPointsOnly && isSdfccdShape(shellShape) &&
+                      (isSdfccdShape(fieldShape) || detail::shapeKind(fieldShape) == ShapeKind::Plane);
     if (isSdfccdShape(fieldShape)) {
       const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
@@ -302,7 +270,8 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   } else if (convexOther || otherKind == ShapeKind::Mesh) {  // a mesh's vertices: at full strength (roleScale)
     runRole(ours0 ? index1 : index0, ours0 ? index0 : index1, ours0 ? wrap1 : wrap0, ours0 ? wrap0 : wrap1, !ours0);
   }
-  if (solver) writeSolverManifolds(swapped ? wrap1 : wrap0, swapped ? wrap0 : wrap1, manifold, *solverPair);
+  if (solver && !m_planning)
+    writeSolverManifolds(swapped ? wrap1 : wrap0, swapped ? wrap0 : wrap1, manifold, *solverPair);
 
   if (closestPointsOnly) {
     m_bodies.swap(savedBodies);
@@ -356,10 +325,15 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   query.useTree = m_settings.useTree;
   query.threads = 1;
   query.integratePenalty = !closestPointsOnly;
-  ContactQueryClocks clocks;
-  clocks.ccd = &threadCpuSeconds;
-  clocks.penalty = &steadySeconds;
-  queryContacts(tree, field, shellMotion, fieldMotion, timeStep, query, m_scratch, clocks);
+  // The query holds copies of its inputs: it may run later, on the pool (obtainQuery, parallel_step.h).
+  auto compute = [tree = &tree, held = detail::HeldField<Field>(field), shellMotion, fieldMotion, timeStep,
+                  query](ContactQueryResult& out) {
+    ContactQueryClocks clocks;
+    clocks.ccd = &threadCpuSeconds;
+    clocks.penalty = &steadySeconds;
+    queryContacts(*tree, held.get(), shellMotion, fieldMotion, timeStep, query, out, clocks);
+  };
+  if (!obtainQuery(role, detail::kDeferrableField<Field>, compute, m_scratch)) return;
   const RigidCcdResult& ccdResult = m_scratch.ccd;
   const Rigid& sdfFromShellStart = m_scratch.sdfFromShellStart;
   const Rigid& sdfFromShellEnd = m_scratch.sdfFromShellEnd;

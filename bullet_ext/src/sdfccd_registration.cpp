@@ -116,6 +116,7 @@ std::shared_ptr<SdfccdContactSystem> registerOwned(btCollisionDispatcher* dispat
   Registration previous = store(dispatcher, Registration{system, world, ourPairEntry(*dispatcher)});
   if (world != nullptr && previous.world == world) world->removeAction(previous.system.get());
   if (world != nullptr) world->addAction(system.get());
+  system->attachWorld(world);  // its pairs are planned and computed in parallel (sdfccd_parallel_step.cpp)
   return system;
 }
 
@@ -155,6 +156,7 @@ void releaseSdfccdAlgorithms(btDiscreteDynamicsWorld* world) {
     table.entries.erase(found);
   }
   world->removeAction(released.system.get());
+  released.system->attachWorld(nullptr);
   ForgetPairAlgorithms forget(dispatcher);
   world->getPairCache()->processAllOverlappingPairs(&forget, dispatcher);
   // No entry may keep pointing at the system's create functions: btEmptyAlgorithm's (one, never freed). These

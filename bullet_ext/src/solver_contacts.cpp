@@ -15,8 +15,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "contact_step.h"
+#include "parallel_step.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
@@ -135,19 +137,27 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
   ccd.octree = m_settings.octree;
   ccd.useTree = m_settings.useTree;
   ccd.threads = 1;
-  // With the pair and role's history (our shell against our field) the query starts from its last front; one
-  // its certificates answer alone (no contact possible) is not timed (contact_query.h, Timing).
-  double seconds = 0.0;
-  if (!(role.coherence &&
-        rigidCcdCertifiedClear(tree, field, sdfFromShellStart, sdfFromShellEnd, ccd, *role.coherence, m_solverCcd))) {
-    const double start = threadCpuSeconds();
-    if (role.coherence) {
-      rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, ccd, *role.coherence, m_solverCcd);
-    } else {
-      rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, ccd, m_solverCcd);
+  // The CCD holds copies of its inputs: it may run later, on the pool (obtainQuery, parallel_step.h). With the
+  // pair and role's history (our shell against our field; it belongs to this role's one job) the query starts from
+  // its last front; one its certificates answer alone (no contact possible) is not timed (contact_query.h, Timing).
+  auto compute = [tree = &tree, held = detail::HeldField<Field>(field), sdfFromShellStart, sdfFromShellEnd, ccd,
+                  coherence = role.coherence](ContactQueryResult& out) {
+    out.ccdSeconds = 0.0;
+    if (coherence &&
+        rigidCcdCertifiedClear(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, *coherence, out.ccd)) {
+      return;
     }
-    seconds = threadCpuSeconds() - start;
-  }
+    const double start = threadCpuSeconds();
+    if (coherence) {
+      rigidCcd(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, *coherence, out.ccd);
+    } else {
+      rigidCcd(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, out.ccd);
+    }
+    out.ccdSeconds = threadCpuSeconds() - start;
+  };
+  if (!obtainQuery(role, detail::kDeferrableField<Field>, compute, m_solverResult)) return;
+  std::swap(m_solverCcd, m_solverResult.ccd);  // what follows reads m_solverCcd; both keep their buffers
+  const double seconds = m_solverResult.ccdSeconds;
   m_stats.ccdSeconds += seconds;
   if constexpr (std::is_same_v<Field, PlaneField>) {
     m_stats.groundCcdSeconds += seconds;

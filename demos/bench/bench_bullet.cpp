@@ -24,6 +24,8 @@
 ///    max penetration (penetration_probe.h: mesh vertices below the ground and inside the other body's
 ///    field, measured the same way for both, every --peer-every frames) and tunnelled bodies. GImpact takes
 ///    seconds per step once the bunnies touch, so only the first --peer-frames (400: both layers land) run.
+/// 4. Modes and stable steps (bullet_mode_bench.h); scaling: piles of 20-320 bunnies on 1 and 2 narrowphase
+///    threads beside Bullet's convex hulls (bullet_scaling_bench.h).
 #if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
 #include <btBulletDynamicsCommon.h>
 
@@ -38,6 +40,7 @@
 #include <vector>
 
 #include "bench/bullet_mode_bench.h"
+#include "bench/bullet_scaling_bench.h"
 #include "bench/bullet_stability_search.h"
 #include "bench/cache_option.h"
 #include "bench/gimpact_peer.h"
@@ -59,9 +62,11 @@ struct BenchBulletOptions {
   std::string cache;  // resolved by resolveCacheOption before the run
   std::string part = "all";
   std::string forceTiming = "same_step";
-  int peerEvery = 1;       // penetration measured every n-th frame in the peer comparison
-  int peerFrames = 400;    // frames of the peer comparison (0: the scene's); --quick halves it
-  ModeBenchOptions modes;  // --part modes and stable
+  int peerEvery = 1;                              // penetration measured every n-th frame in the peer comparison
+  int peerFrames = 400;                           // frames of the peer comparison (0: the scene's); --quick halves it
+  ModeBenchOptions modes;                         // --part modes and stable
+  std::string scalingPlot = "bench_scaling.png";  // --part scaling's PNG
+  std::vector<int> scalingBodies;                 // --part scaling's pile sizes (empty: the defaults)
 };
 
 struct Table4Row {
@@ -343,9 +348,9 @@ void runPeer(const BenchBulletOptions& o) {
 }
 
 int runBenchBullet(BenchBulletOptions o) {
-  const std::string parts[] = {"all", "table4", "fig10a", "peer", "modes", "stable"};
+  const std::string parts[] = {"all", "table4", "fig10a", "peer", "modes", "stable", "scaling"};
   if (std::find(std::begin(parts), std::end(parts), o.part) == std::end(parts)) {
-    throw Error("--part must be all, table4, fig10a, peer, modes or stable");
+    throw Error("--part must be all, table4, fig10a, peer, modes, stable or scaling");
   }
   if (!(o.modes.maxPenetrationCells > 0)) throw Error("--max-penetration-cells must be > 0");
   if (!(o.modes.timingSeconds > 0) || !(o.modes.gimpactSeconds > 0)) {
@@ -367,6 +372,15 @@ int runBenchBullet(BenchBulletOptions o) {
   if (o.part == "all" || o.part == "peer") runPeer(o);
   if (o.part == "all" || o.part == "modes") runModeTiming(o.modes, csvRow);
   if (o.part == "all" || o.part == "stable") runModeStability(o.modes, csvRow);
+  if (o.part == "all" || o.part == "scaling") {
+    ScalingBenchOptions scaling;
+    scaling.quick = o.quick;
+    scaling.scenes = o.scenes;
+    scaling.cache = o.cache;
+    scaling.plot = o.scalingPlot;
+    scaling.bodies = o.scalingBodies;
+    runScalingBench(scaling, csvRow);
+  }
   if (!o.csv.empty()) {
     writeOutputFile(o.csv, g_csv.str());
     std::printf("wrote %s\n", o.csv.c_str());
@@ -377,14 +391,18 @@ int runBenchBullet(BenchBulletOptions o) {
 const BenchRegistrar bench_bulletRegistrar(
     "bullet",
     "Table 4 (CCD linear vs tree in drops), Fig. 10a (stability), the GImpact peer, "
-    "the contact modes beside Bullet's shapes and their largest stable steps",
+    "the contact modes beside Bullet's shapes and their largest stable steps, the cost of piles of 20-320 "
+    "bunnies on 1 and 2 threads (scaling)",
     [](CLI::App& sub) {
       auto o = std::make_shared<BenchBulletOptions>();
       sub.add_flag("--quick", o->quick, "A quarter of the frames, fewer timesteps");
       sub.add_option("--out", o->csv, "CSV output (default bench_bullet.csv; empty: none)");
       sub.add_option("--scenes", o->scenes, "Scene folder (default assets/scenes)")->check(nonEmpty());
       const CLI::Option* cache = addCacheOption(sub, o->cache, "Body model cache");
-      sub.add_option("--part", o->part, "all, table4, fig10a, peer, modes or stable");
+      sub.add_option("--part", o->part, "all, table4, fig10a, peer, modes, stable or scaling");
+      sub.add_option("--scaling-plot", o->scalingPlot, "Scaling: the PNG (default bench_scaling.png; empty: none)");
+      sub.add_option("--scaling-bodies", o->scalingBodies, "Scaling: pile sizes (default 20,80,320; --quick 4,12)")
+          ->delimiter(',');
       sub.add_option("--mode-seconds", o->modes.timingSeconds,
                      "Modes: simulated seconds per world (default 1; --quick 0.3)");
       sub.add_option("--gimpact-seconds", o->modes.gimpactSeconds,

@@ -47,6 +47,7 @@ struct SimulateOptions {
   double stiffness = 0.0;
   bool noToi = false;
   bool linear = false;
+  int threads = 0;  // narrowphase threads (0: all hardware threads)
   std::string forceTiming;
   std::string renderDir;  // --render: frames of the run as PNG
   int renderEvery = 10;
@@ -128,6 +129,9 @@ int runSimulate(const SimulateOptions& o) {
   }
   if (o.noToi) settings.timeOfImpactClamp = false;
   if (o.linear) settings.useTree = false;
+  if (o.threads < 0)
+    throw Error("--threads must be >= 0 (0: all hardware threads; got " + std::to_string(o.threads) + ")");
+  settings.narrowphaseThreads = o.threads;
   if (o.forceTiming == "next_step") {
     settings.forceTiming = ForceTiming::NextStep;
   } else if (o.forceTiming == "same_step") {
@@ -302,6 +306,9 @@ const CommandRegistrar cmd_simulateRegistrar("simulate", [](CLI::App& app) {
   cmd->add_option("--every", o->renderEvery, "With --render: every K-th frame (default 10)");
   cmd->add_option("--size", o->renderSize, "With --render: frame size WIDTHxHEIGHT (default 960x540)");
   cmd->add_option("--force-timing", o->forceTiming, "Override contact.force_timing: same_step or next_step");
+  cmd->add_option("--threads", o->threads,
+                  "Narrowphase threads: the pairs' CCD on a pool (default 0: all hardware threads; 1: serial; "
+                  "results are identical for every value)");
   return std::function<int()>([o]() { return runSimulate(*o); });
 });
 

@@ -47,6 +47,7 @@ struct SceneWorldSettings {
   std::optional<ContactSolver> solver;     ///< overrides contact.solver (solver mode)
   int shadowLinearEvery = 0;               ///< see SdfccdContactSettings::shadowLinearEvery
   bool coherentCcd = true;                 ///< see SdfccdContactSettings::coherentCcd
+  int narrowphaseThreads = 0;              ///< SdfccdContactSettings::threads (0 = all; same results for any)
   bool allowSleeping = true;               ///< false: bodies never deactivate (benchmarks time every frame)
   ProgressCallback buildProgress;          ///< fraction of the model builds done
 };

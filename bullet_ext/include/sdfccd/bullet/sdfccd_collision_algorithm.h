@@ -36,6 +36,12 @@ class SdfccdCollisionAlgorithm : public btCollisionAlgorithm {
   }
   void getAllContactManifolds(btManifoldArray& manifoldArray) override;
 
+  /// The parallel step's planning (sdfccd_parallel_step.cpp): a contacts algorithm of `system` whose pair state
+  /// exists (solver mode: made at its first processCollision), so that planning its pair changes nothing.
+  bool plannable(const SdfccdContactSystem* system) const;
+  btPersistentManifold* manifold() const { return m_manifold; }
+  SdfccdSolverPair* solverPair() const { return m_solverPair; }
+
   /// Creates SdfccdCollisionAlgorithm for one dispatcher entry.
   struct CreateFunc : public btCollisionAlgorithmCreateFunc {
     CreateFunc(SdfccdContactSystem* system, bool closestPointsOnly)

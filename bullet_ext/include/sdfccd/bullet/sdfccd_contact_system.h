@@ -39,8 +39,10 @@
 /// Kinematic bodies are moving bodies of infinite mass: their velocity counts, the clamp never rewinds or drops
 /// their pairs (time_of_impact_clamp.h). Compound children each get their own pose (motion_prediction.h).
 ///
-/// Thread safety: one system per world; the narrowphase must be single threaded (btDiscreteDynamicsWorld,
+/// Thread safety: one system per world; Bullet's narrowphase must be single threaded (btDiscreteDynamicsWorld,
 /// not btDiscreteDynamicsWorldMt: registration refuses the Mt world and dispatcher). Models are shared read-only.
+/// Inside the step the CCD of our pairs runs on our own pool (SdfccdContactSettings::threads), touching no Bullet
+/// object; Bullet sees the results serially, in its pair order (sdfccd_parallel_step.cpp).
 /// Ownership: see registerSdfccdAlgorithms() at the end of this file.
 #pragma once
 
@@ -73,6 +75,7 @@ class btCollisionObject;
 class btCollisionObjectWrapper;
 class btCollisionShape;
 class btCollisionAlgorithmCreateFunc;
+class btCollisionWorld;
 class btDiscreteDynamicsWorld;
 class btManifoldResult;
 class btPersistentManifold;
@@ -87,7 +90,9 @@ namespace sdfccd {
 class SdfccdShape;
 namespace detail {
 class ConvexShapeCache;
-}
+class DeferredQueries;
+class NarrowphasePool;
+}  // namespace detail
 
 /// Receives one line of text: an unsupported pair's announcement (SdfccdContactSystem::setLogCallback).
 using SdfccdLogCallback = std::function<void(const std::string& line)>;
@@ -122,6 +127,12 @@ struct SdfccdContactSettings {
   /// discarded, and timed into SdfccdContactStatistics::shadowLinearSeconds (paper Table 4: linear vs tree
   /// on the very same motion). 0: off.
   int shadowLinearEvery = 0;
+  /// Narrowphase threads (issue 17): the CCD of the step's pairs of our shapes (and of ours against ground
+  /// planes), both roles, runs on a persistent pool of this many threads (sdfccd_parallel_step.cpp); 0: the
+  /// machine's hardware threads; 1: on the stepping thread. Results are bit-identical for every value. The pool's
+  /// threads (this many minus the stepping thread) start at the first step with queries and stay parked between
+  /// steps until the system goes.
+  int threads = 0;
 };
 
 /// One body's penalty parameters (penalty mode), overriding the world's SdfccdContactSettings::penalty; an unset
@@ -157,7 +168,7 @@ struct SdfccdPairContact {
 
 /// Counters, cumulative since construction.
 struct SdfccdContactStatistics {
-  double ccdSeconds = 0.0;            ///< CPU time of the calling thread in rigid CCD queries (s), all fields
+  double ccdSeconds = 0.0;  ///< thread CPU time of rigid CCD queries (s), all fields, on whichever thread ran them
   double groundCcdSeconds = 0.0;      ///< the part of ccdSeconds spent against static planes (s)
   double shadowLinearSeconds = 0.0;   ///< point-by-point repeats (shadowLinearEvery), between bodies only (s)
   std::int64_t shadowSteps = 0;       ///< steps in which the repeats ran
@@ -178,6 +189,11 @@ struct SdfccdContactStatistics {
   std::int64_t dampingEvaluations = 0;   ///< of them, with the damping term ("damping")
   std::int64_t torqueEvaluations = 0;    ///< of them, with torques ("rotation")
   std::int64_t frictionEvaluations = 0;  ///< of them, with friction ("friction")
+  /// Pairs that ran no CCD because neither body moves: each sleeping, static, or kinematic at zero velocity
+  /// (their manifolds keep last step's points for Bullet's island manager).
+  std::int64_t restingPairs = 0;
+  std::int64_t deferredQueries = 0;  ///< of ccdQueries, those computed in a step's parallel batch
+  double parallelWallSeconds = 0.0;  ///< wall time of the parallel batches (s)
 };
 
 class SdfccdContactSystem : public btActionInterface {
@@ -202,6 +218,11 @@ class SdfccdContactSystem : public btActionInterface {
   /// create functions are owned by this object: keep it alive as long as the dispatcher (registerSdfccdAlgorithms()
   /// does this for you).
   void registerWith(btCollisionDispatcher& dispatcher);
+
+  /// The world whose overlapping pairs a step plans and computes in parallel (sdfccd_parallel_step.cpp);
+  /// registerSdfccdAlgorithms(world) attaches it. Without a world every pair is computed when Bullet processes
+  /// it, on the stepping thread. Null detaches.
+  void attachWorld(btCollisionWorld* world) { m_world = world; }
 
   /// Per-body penalty parameters (see SdfccdBodyContact), taking effect at the next step. The body is a key only
   /// (not owned, never dereferenced): clear its entry when the body is destroyed, or a new body at its address
@@ -288,6 +309,13 @@ class SdfccdContactSystem : public btActionInterface {
   /// belongs to the manifold's body 0.
   template <class Field>
   void collectSolverCandidates(const Role& role, const Field& field, double cellSize, bool shellIsManifoldBody0);
+  /// The step's plan (sdfccd_parallel_step.cpp): the first processPair of a step runs every overlapping pair of
+  /// ours in planning mode (queries queued, nothing else changed), then computes the queue on the pool.
+  void planStep(const btDispatcherInfo& dispatchInfo);
+  /// One role's query result into `out`: planning mode queues `compute` (when the role may be deferred) and
+  /// returns false (the caller stops); otherwise takes the planned result or runs `compute` now (parallel_step.h).
+  template <class Compute>
+  bool obtainQuery(const Role& role, bool deferrableField, Compute& compute, ContactQueryResult& out);
   /// Solver mode, the whole pair: reduction and the manifold points (solver_manifolds.cpp).
   void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
                             btPersistentManifold* primary, SdfccdSolverPair& pair);
@@ -315,6 +343,13 @@ class SdfccdContactSystem : public btActionInterface {
   double m_candidateMargin = 0.0;           // solver mode: the current pair's largest speculative margin (m)
   double m_solverTimeStep = 0.0;            // solver mode: the step of the current pair (s)
   RigidCcdResult m_shadowScratch;
+  // The parallel step (sdfccd_parallel_step.cpp): the planned queries, the pool, the world whose pairs are planned.
+  std::unique_ptr<detail::DeferredQueries> m_deferred;
+  std::unique_ptr<detail::NarrowphasePool> m_pool;
+  btCollisionWorld* m_world = nullptr;
+  bool m_planning = false;            // processPair runs to queue queries only
+  std::int64_t m_plannedStep = -1;    // the m_stepCounter of the last plan
+  ContactQueryResult m_solverResult;  // solver mode: a planned query's result, swapped with m_solverCcd
   std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;
   double m_lastMaxPenetrationCells = 0.0;

@@ -1,0 +1,81 @@
+/// @file
+/// @brief NarrowphasePool (see narrowphase_pool.h).
+#include "narrowphase_pool.h"
+
+namespace sdfccd::detail {
+
+int resolveThreads(int threads) {
+  if (threads > 0) return threads;
+  const unsigned hardware = std::thread::hardware_concurrency();
+  return hardware > 0 ? static_cast<int>(hardware) : 1;
+}
+
+NarrowphasePool::NarrowphasePool(int threads) : m_threads(resolveThreads(threads)) {
+  for (int i = 1; i < m_threads; ++i) m_workers.emplace_back([this] { workerLoop(); });
+}
+
+NarrowphasePool::~NarrowphasePool() {
+  {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    m_stop = true;
+  }
+  m_wake.notify_all();
+  for (std::thread& worker : m_workers) worker.join();
+}
+
+void NarrowphasePool::drain(const std::function<void(std::size_t)>& task, std::size_t count) {
+  for (;;) {
+    const std::size_t i = m_next.fetch_add(1);
+    if (i >= count) return;
+    task(i);
+    if (m_finished.fetch_add(1) + 1 == count) {
+      const std::lock_guard<std::mutex> lock(m_mutex);  // the caller checks under the lock: no lost wake-up
+      m_done.notify_all();
+    }
+  }
+}
+
+void NarrowphasePool::workerLoop() {
+  std::uint64_t seen = 0;
+  std::unique_lock<std::mutex> lock(m_mutex);
+  for (;;) {
+    m_wake.wait(lock, [&] { return m_stop || m_generation != seen; });
+    if (m_stop) return;
+    seen = m_generation;
+    if (!m_accepting) continue;  // woke after its batch ended
+    ++m_active;
+    const std::function<void(std::size_t)>* task = m_task;
+    const std::size_t count = m_count;
+    lock.unlock();
+    drain(*task, count);
+    lock.lock();
+    --m_active;
+    m_done.notify_all();
+  }
+}
+
+void NarrowphasePool::run(std::size_t count, const std::function<void(std::size_t)>& task) {
+  if (m_workers.empty() || count < 2) {
+    for (std::size_t i = 0; i < count; ++i) task(i);
+    return;
+  }
+  {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    m_task = &task;
+    m_count = count;
+    m_next = 0;
+    m_finished = 0;
+    m_accepting = true;
+    ++m_generation;
+  }
+  m_wake.notify_all();
+  drain(task, count);
+  std::unique_lock<std::mutex> lock(m_mutex);
+  m_done.wait(lock, [&] { return m_finished.load() == count; });
+  // Workers that joined may still be between their last claim and leaving: the batch (and `task`) outlives them.
+  m_accepting = false;
+  m_done.wait(lock, [&] { return m_active == 0; });
+  m_task = nullptr;
+}
+
+}  // namespace sdfccd::detail

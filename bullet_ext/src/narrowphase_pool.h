@@ -1,0 +1,63 @@
+/// @file
+/// @brief NarrowphasePool: the persistent worker pool of the parallel narrowphase (issue 17 item 1).
+///
+/// @details Threads started once (with the contact system's settings) and parked on a condition variable between
+/// steps, so a 1 ms step pays a wake-up, not a thread start (the core's parallel_for starts threads on every call:
+/// too costly here). The tasks of a batch are claimed one at a time from an atomic counter, by the workers and by
+/// the calling thread alike (load balance: the roles' costs differ by orders of magnitude).
+/// Why not oneTBB: its synchronisation lives in the uninstrumented Debian library, so ThreadSanitizer cannot see
+/// the hand-over of a task to a worker and reports races that are not there; and its workers spin before they
+/// park, which on a shared, loaded machine takes CPU from the others. Here every hand-over is a std::mutex or a
+/// std::atomic, which TSan sees.
+/// The tasks must be independent: which thread runs which index is not fixed, so each task writes only its own
+/// output (results are then bit-identical for any thread count). One batch at a time (run() is not reentrant).
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace sdfccd::detail {
+
+class NarrowphasePool {
+ public:
+  /// `threads` in all, the caller included: 1 = serial on the caller; 0 = the machine's hardware threads.
+  explicit NarrowphasePool(int threads);
+  ~NarrowphasePool();
+  NarrowphasePool(const NarrowphasePool&) = delete;
+  NarrowphasePool& operator=(const NarrowphasePool&) = delete;
+
+  int threads() const { return m_threads; }
+  /// Runs task(i) for i in [0, count), each index once, and returns when all are done.
+  void run(std::size_t count, const std::function<void(std::size_t)>& task);
+
+ private:
+  void workerLoop();
+  /// Claims and runs tasks of the current batch until none is left.
+  void drain(const std::function<void(std::size_t)>& task, std::size_t count);
+
+  int m_threads = 1;
+  std::vector<std::thread> m_workers;
+  std::mutex m_mutex;
+  std::condition_variable m_wake;  // workers: a new batch, or stop
+  std::condition_variable m_done;  // the caller: a task or a worker finished
+  // The batch, under m_mutex (the counters are atomic: claimed and finished outside it).
+  const std::function<void(std::size_t)>* m_task = nullptr;
+  std::size_t m_count = 0;
+  std::uint64_t m_generation = 0;
+  bool m_accepting = false;  // a worker that wakes after its batch ended must not join it
+  int m_active = 0;          // workers inside the current batch
+  bool m_stop = false;
+  std::atomic<std::size_t> m_next{0};
+  std::atomic<std::size_t> m_finished{0};
+};
+
+/// The threads a `threads` setting means: the hardware's for 0 (at least 1), else the value.
+int resolveThreads(int threads);
+
+}  // namespace sdfccd::detail

@@ -1,0 +1,104 @@
+/// @file
+/// @brief The parallel narrowphase (issue 17 item 1): SdfccdContactSystem::planStep.
+///
+/// @details Debian's Bullet has no BT_THREADSAFE: its dispatcher, pools, manifolds and callbacks may be touched by
+/// one thread only. So the parallel part is pure core CCD on copied poses and velocities, and everything that
+/// touches Bullet stays on the stepping thread, in Bullet's own order.
+///
+/// Why algorithms that defer, not a dispatcher subclass: registration works with any btCollisionDispatcher the
+/// user built (registerSdfccdAlgorithms takes theirs), and a subclass would have to be the one the world was
+/// constructed with. Instead the first of our processCollision calls in a step plans the whole step:
+/// 1. planning (serial): every overlapping pair whose algorithm is ours and that Bullet will process
+///    (needsCollision, our contacts algorithm, its solver pair made) runs through processPair in planning mode:
+///    each body's motion over the step is predicted (bodyStep, from the state before any impulse of this step),
+///    each role that may be deferred (our shell against our grid field or a plane) queues its query with copies of
+///    its inputs; nothing else changes (no manifold, record, statistic or impulse);
+/// 2. the queue runs on the persistent pool (narrowphase_pool.h), each query into its own result;
+/// 3. Bullet goes on processing its pairs in its order; each of our roles takes its planned result instead of
+///    computing it, and everything after the CCD (manifold points, records, clamps, impulses) runs as before.
+/// Roles not planned (other shapes, compound children, a pair seen for the first time) compute on the spot.
+///
+/// Same start state for every pair: in penalty mode with ForceTiming::SameStep the impulses reach the velocities
+/// in the narrowphase, so a query must not read a velocity an earlier pair changed. It never did: bodyStep() caches
+/// each body's predicted motion at its first pair of the step, and an impulse only reaches the bodies of the pair
+/// being processed, whose motions are cached by then. Planning predicts every planned body's motion before any
+/// impulse, which keeps that, so a step is bit-identical for 1, 2 or n threads and to the serial narrowphase
+/// before the plan (the golden hash, tests/bullet/golden_hash_test.cpp, did not change).
+///
+/// What the queries touch from several threads: the tree and field of a model (read-only), the pair and role's
+/// friction anchors and CCD history (one query each), the core's thread_local CCD scratch (rigid_ccd_query.h);
+/// the statistics are summed when the results are taken, on the stepping thread.
+#include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+
+#include <chrono>
+#include <memory>
+#include <optional>
+
+#include "bullet_shape_fields.h"
+#include "deferred_queries.h"
+#include "narrowphase_pool.h"
+#include "sdfccd/bullet/sdfccd_collision_algorithm.h"
+#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/sdfccd_shape.h"
+
+namespace sdfccd {
+namespace {
+
+/// Steps a convex shape's cached hull and shells outlive its last pair (ConvexShapeCache::evictIdle): a shape that
+/// comes back later is rebuilt, which costs a few milliseconds once.
+constexpr std::int64_t kConvexCacheIdleSteps = 1000;
+
+/// A pair whose roles may all be planned: two of our shapes, or ours and a plane.
+bool plannablePair(const btCollisionShape* a, const btCollisionShape* b) {
+  using detail::ShapeKind;
+  const bool oursA = isSdfccdShape(a);
+  const bool oursB = isSdfccdShape(b);
+  if (oursA && oursB) return true;
+  return (oursA && detail::shapeKind(b) == ShapeKind::Plane) || (oursB && detail::shapeKind(a) == ShapeKind::Plane);
+}
+
+}  // namespace
+
+void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
+  m_plannedStep = m_stepCounter;
+  m_deferred->clear();
+  m_convexShapes->evictIdle(m_stepCounter, kConvexCacheIdleSteps);  // once per step, before any pair
+  if (m_world == nullptr || dispatchInfo.m_dispatchFunc != btDispatcherInfo::DISPATCH_DISCRETE) return;
+  auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(m_world->getDispatcher());
+  // A user's near callback may process other pairs than Bullet's: then nothing is planned.
+  if (dispatcher == nullptr || dispatcher->getNearCallback() != &btCollisionDispatcher::defaultNearCallback) return;
+  btBroadphasePairArray& pairs = m_world->getPairCache()->getOverlappingPairArray();
+  struct PlanningScope {  // planning mode ends however processPair leaves
+    explicit PlanningScope(bool& flag) : planning(flag) { planning = true; }
+    ~PlanningScope() { planning = false; }
+    bool& planning;
+  };
+  std::optional<PlanningScope> scope(std::in_place, m_planning);
+  for (int i = 0; i < pairs.size(); ++i) {
+    auto* algorithm = dynamic_cast<SdfccdCollisionAlgorithm*>(pairs[i].m_algorithm);
+    if (algorithm == nullptr || !algorithm->plannable(this)) continue;
+    auto* object0 = static_cast<btCollisionObject*>(pairs[i].m_pProxy0->m_clientObject);
+    auto* object1 = static_cast<btCollisionObject*>(pairs[i].m_pProxy1->m_clientObject);
+    if (!dispatcher->needsCollision(object0, object1)) continue;
+    if (!plannablePair(object0->getCollisionShape(), object1->getCollisionShape())) continue;
+    // The wrappers defaultNearCallback builds for the same pair.
+    const btCollisionObjectWrapper wrap0(nullptr, object0->getCollisionShape(), object0, object0->getWorldTransform(),
+                                         -1, -1);
+    const btCollisionObjectWrapper wrap1(nullptr, object1->getCollisionShape(), object1, object1->getWorldTransform(),
+                                         -1, -1);
+    btManifoldResult unused(&wrap0, &wrap1);
+    processPair(&wrap0, &wrap1, dispatchInfo, &unused, algorithm->manifold(), algorithm->solverPair(), false);
+  }
+  scope.reset();
+  if (m_deferred->size() == 0) return;
+  if (!m_pool) m_pool = std::make_unique<detail::NarrowphasePool>(m_settings.threads);
+  const auto start = std::chrono::steady_clock::now();
+  m_deferred->runAll(*m_pool);
+  m_stats.parallelWallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace sdfccd
