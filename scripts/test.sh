@@ -85,16 +85,20 @@ echo "== tests (address,undefined sanitizers)" >&2
 # its triangles (each 10-30 s under ASan; the shorter ray and sweep cases run here).
 textbook='Textbook[A-Za-z]*\.|Incline\.'
 long_runs='GoldenHash\.|ShapeQueries\.RandomRaysMatchTheTriangles|Stability\.RestingBoxGainsNoEnergy|HapticSession\.(ShrunkHole|PegGoesInto|Fig13Pocket)|AlphaPuzzleScene\.FieldIsCached'
+# ... and the golden drop on 1, 2 and 4 threads, the Fig. 7 peg sessions, the solved alpha puzzle's sessions and the
+# 8-bunny piles run with and without the CCD history (each drives code the shorter cases drive, for seconds).
+long_runs+='|ParallelNarrowphase\.GoldenDropIdenticalFor1To4Threads|HapticPegFig7\.|AlphaPuzzleSolved\.|CoherentWorld\.'
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -LE install -E "$textbook|$long_runs"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -R 'Textbook[A-Za-z]*\..*Short$'
 
-echo "== build (thread sanitizer: the haptic loops)" >&2
-# The haptics module runs a 1 kHz device thread beside a simulation thread; its suite must be TSan clean.
-cmake -S . -B build-tsan "${sanitizer_flags[@]}" -DSDFCCD_SANITIZE=thread -DSDFCCD_BUILD_BULLET=OFF \
-  -DSDFCCD_BUILD_RENDER=OFF -DSDFCCD_BUILD_TOOLS=OFF >/dev/null
-cmake --build build-tsan -j"$jobs" --target haptics_tests
+echo "== build (thread sanitizer: the haptic loops and the parallel narrowphase)" >&2
+# The haptics module runs a 1 kHz device thread beside a simulation thread, and the Bullet plugin runs a step's
+# CCD on a pool of threads: both must be TSan clean.
+cmake -S . -B build-tsan "${sanitizer_flags[@]}" -DSDFCCD_SANITIZE=thread \
+  -DSDFCCD_BUILD_RENDER=OFF -DSDFCCD_BUILD_TOOLS=OFF -DSDFCCD_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build build-tsan -j"$jobs" --target haptics_tests bullet_tests
 echo "== tests (thread sanitizer)" >&2
 # The threads are the device loop, the simulation loop beside it and the SDF builder's workers: every haptics
 # test that runs them, not the single-threaded sessions that only run longer (the alpha puzzle, the clearance
@@ -103,5 +107,9 @@ echo "== tests (thread sanitizer)" >&2
 single_threaded_long='AlphaPuzzleScene\.|GodObjectClearanceCache\.|HapticSession\.(ShrunkHole|PegGoesInto|Fig13Pocket)|PassivityController\.ConstraintSession'
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build-tsan --output-on-failure -j"$jobs" --timeout 900 -L haptics_tests \
   -E "$single_threaded_long"
+# The narrowphase pool, the deferred queries and the shape cache they read, a pile in penalty mode that runs on
+# the pool and goes to sleep, and a drop in solver mode on 1 and 2 threads.
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build-tsan --output-on-failure -j"$jobs" --timeout 900 \
+  -R 'NarrowphasePool\.|DeferredQueries\.|ConvexShapeCache\.|ParallelNarrowphase\.(SleepingPileRunsNoCcd|SolverDropIdenticalFor1And2Threads)'
 
 fuzz_stage
