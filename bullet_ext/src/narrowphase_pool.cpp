@@ -11,16 +11,26 @@ int resolveThreads(int threads) {
 }
 
 NarrowphasePool::NarrowphasePool(int threads) : m_threads(resolveThreads(threads)) {
-  for (int i = 1; i < m_threads; ++i) m_workers.emplace_back([this] { workerLoop(); });
+  try {
+    for (int i = 1; i < m_threads; ++i) m_workers.emplace_back([this] { workerLoop(); });
+  } catch (...) {
+    stopWorkers();  // the destructor does not run for a constructor that throws: join what was started
+    throw;
+  }
 }
 
 NarrowphasePool::~NarrowphasePool() {
+  stopWorkers();
+}
+
+void NarrowphasePool::stopWorkers() {
   {
     const std::lock_guard<std::mutex> lock(m_mutex);
     m_stop = true;
   }
   m_wake.notify_all();
   for (std::thread& worker : m_workers) worker.join();
+  m_workers.clear();
 }
 
 void NarrowphasePool::drain(const std::function<void(std::size_t)>& task, std::size_t count) {

@@ -38,6 +38,7 @@ class NarrowphasePool {
 
  private:
   void workerLoop();
+  void stopWorkers();  ///< stops and joins every worker (the destructor, and a constructor that fails)
   /// Claims and runs tasks of the current batch until none is left.
   void drain(const std::function<void(std::size_t)>& task, std::size_t count);
 

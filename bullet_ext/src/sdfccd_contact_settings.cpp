@@ -49,7 +49,9 @@ void SdfccdContactSystem::setSettings(const SdfccdContactSettings& settings) {
   if (settings.mode == SdfccdContactMode::Solver && p.model == PenaltyModel::Discrete) {
     throw Error("contact settings: contact.model discrete applies to penalty mode only (contact.mode is solver)");
   }
-  if (settings.threads < 0) throw Error("contact settings: threads must be >= 0 (0: all hardware threads)");
+  if (settings.threads < 0 || settings.threads > kMaxNarrowphaseThreads)
+    throw Error("contact settings: threads must be in 0.." + std::to_string(kMaxNarrowphaseThreads) +
+                " (0: all hardware threads)");
   // The pool starts with the first planned step that has queries (planStep): a world that never steps starts none.
   if (m_pool && m_pool->threads() != detail::resolveThreads(settings.threads)) m_pool.reset();
   m_settings = settings;

@@ -129,8 +129,9 @@ int runSimulate(const SimulateOptions& o) {
   }
   if (o.noToi) settings.timeOfImpactClamp = false;
   if (o.linear) settings.useTree = false;
-  if (o.threads < 0)
-    throw Error("--threads must be >= 0 (0: all hardware threads; got " + std::to_string(o.threads) + ")");
+  if (o.threads < 0 || o.threads > kMaxNarrowphaseThreads)
+    throw Error("--threads must be in 0.." + std::to_string(kMaxNarrowphaseThreads) +
+                " (0: all hardware threads; got " + std::to_string(o.threads) + ")");
   settings.narrowphaseThreads = o.threads;
   if (o.forceTiming == "next_step") {
     settings.forceTiming = ForceTiming::NextStep;

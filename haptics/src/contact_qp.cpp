@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mass_cholesky.h"
+
 namespace sdfccd::haptics {
 
 namespace {
@@ -119,10 +121,8 @@ void ContactQpSolver::solve(const Mat6& massMatrix, const ConstraintRows& jacobi
     outResult.activeCount = 0;
   };
   if (!allFinite(massMatrix, jacobian, unconstrained)) return fail();
-  if ((massMatrix - massMatrix.transpose()).cwiseAbs().maxCoeff() > 1e-9 * massMatrix.cwiseAbs().maxCoeff())
-    return fail();
-  const Eigen::LLT<Mat6> llt(massMatrix);
-  if (llt.info() != Eigen::Success) return fail();
+  Eigen::LLT<Mat6> llt;
+  if (!factorMassMatrix(massMatrix, llt)) return fail();
 
   // y = L^T a; G^T = L^{-1} J^T.
   const Vec6 yU = llt.matrixU() * unconstrained;

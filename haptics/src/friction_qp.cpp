@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mass_cholesky.h"
 #include "sdfccd/haptics/contact_qp.h"
 #include "sdfccd/math_types.h"
 
@@ -59,10 +60,8 @@ void ContactQpSolver::solveFriction(const Mat6& massMatrix, const std::vector<Ve
     if (!normalsIntoObstacle[static_cast<std::size_t>(k)].allFinite() ||
         !handles[static_cast<std::size_t>(k)].allFinite())
       return fail();
-  if ((massMatrix - massMatrix.transpose()).cwiseAbs().maxCoeff() > 1e-9 * massMatrix.cwiseAbs().maxCoeff())
-    return fail();
-  const Eigen::LLT<Mat6> llt(massMatrix);
-  if (llt.info() != Eigen::Success) return fail();
+  Eigen::LLT<Mat6> llt;
+  if (!factorMassMatrix(massMatrix, llt)) return fail();
   const Vec6 yU = llt.matrixU() * unconstrained;
   const double yNorm = yU.norm();
   if (yNorm == 0.0) return;

@@ -48,6 +48,10 @@ GodObject<Field>::GodObject(const PointTree& tree, ObstacleContacts& obstacles, 
       m_pose(worldFromGodStart),
       m_settings(settings) {
   m_settings.clearanceCache = false;  // the cache is the own field's (the obstacles' pairs query every point)
+  // The friction solve holds the tool still relative to the world; against a moving obstacle it would have to
+  // solve relative to the obstacle's surface velocity, which it does not: refused rather than rendered wrong.
+  if (settings.qp.friction > 0.0 && obstacles.anyMoving())
+    throw Error("god object: friction against a moving obstacle is not supported (constraint.friction must be 0)");
   initialize(worldFromGodStart);
 }
 

@@ -360,10 +360,11 @@ class FieldShellPair final : public ObstaclePair {
 }  // namespace
 
 ObstacleContacts::ObstacleContacts(const std::vector<HapticObstacle>& obstacles, const PointTree& toolTree,
-                                   const GridField* toolField) {
+                                   const GridField* toolField)
+    : m_obstacles(obstacles) {
   const double toolRadius = shellRadius(toolTree);
-  for (std::size_t i = 0; i < obstacles.size(); ++i) {
-    const HapticObstacle& o = obstacles[i];
+  for (std::size_t i = 0; i < m_obstacles.size(); ++i) {
+    const HapticObstacle& o = m_obstacles[i];
     const int index = static_cast<int>(i);
     const std::string name = "obstacle " + std::to_string(i) + (o.name.empty() ? "" : " (" + o.name + ")");
     if (o.shell) {
@@ -383,6 +384,10 @@ ObstacleContacts::ObstacleContacts(const std::vector<HapticObstacle>& obstacles,
 }
 
 ObstacleContacts::~ObstacleContacts() = default;
+
+bool ObstacleContacts::anyMoving() const {
+  return std::any_of(m_obstacles.begin(), m_obstacles.end(), [](const HapticObstacle& o) { return o.path.moving(); });
+}
 
 bool ObstacleContacts::moveTo(double time) {
   bool moved = false;

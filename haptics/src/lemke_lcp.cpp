@@ -48,7 +48,7 @@ int LemkeSolver::leavingRow(int column, const LcpSettings& settings) {
                                 [&](int i) { return m_tableau(i, k) / m_tableau(i, column) > least + slack; }),
                  m_ties.end());
   }
-  return m_ties.front();
+  return m_ties.empty() ? -1 : m_ties.front();  // none (a NaN ratio never compares): no blocking row
 }
 
 void LemkeSolver::pivot(int row, int column) {

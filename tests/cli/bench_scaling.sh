@@ -33,8 +33,11 @@ for n in 2 4; do
   cmp -s "$work/m1.txt" "$work/m$n.txt" || fail "--threads $n moved the bodies differently from --threads 1"
 done
 grep -q "^300," "$work/m1.txt" || fail "the run did not reach frame 300"
-out=$("$tool" simulate "$work/pile.json" --threads -1 --out "$work/bad" --cache "" 2>&1) && fail "--threads -1 accepted"
-[ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q -- "--threads" || fail "bad --threads: $out"
+for bad in -1 100000; do  # below 0, and more threads than a pool takes (the thread limit would end the process)
+  out=$("$tool" simulate "$work/pile.json" --threads "$bad" --out "$work/bad" --cache "" 2>&1) &&
+    fail "--threads $bad accepted"
+  [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q -- "--threads" || fail "bad --threads: $out"
+done
 
 "$tool" --help | grep -qE "^ +bench " || { echo "ok (bench command not built)"; exit 0; }
 "$tool" bench bullet --quick --part scaling --scaling-bodies 3 --scenes "$assets/scenes" --cache "$work/cache" \

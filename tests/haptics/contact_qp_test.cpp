@@ -11,19 +11,10 @@
 #include <limits>
 #include <random>
 
+#include "haptics/random_mass_matrix.h"
+
 namespace sdfccd::haptics {
 namespace {
-
-Mat6 randomMass(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::uniform_real_distribution<double> pos(0.1, 5.0);
-  Eigen::Matrix3d a;
-  for (int i = 0; i < 9; ++i) a(i / 3, i % 3) = u(rng);
-  Mat6 m = Mat6::Zero();
-  m.topLeftCorner<3, 3>() = pos(rng) * Eigen::Matrix3d::Identity();
-  m.bottomRightCorner<3, 3>() = a * a.transpose() + 0.05 * Eigen::Matrix3d::Identity();
-  return m;
-}
 
 Vec6 randomVec(std::mt19937& rng, double scale = 1.0) {
   std::normal_distribution<double> n(0.0, scale);
@@ -139,7 +130,7 @@ TEST(ContactQp, MatchesBruteForceOnRandomSmallProblems) {
   ContactQpSolver solver;
   for (int trial = 0; trial < 3000; ++trial) {
     const int rows = 1 + trial % 6;
-    const Mat6 m = randomMass(rng);
+    const Mat6 m = test::randomMassMatrix(rng);
     ConstraintRows j(rows, 6);
     for (int k = 0; k < rows; ++k) j.row(k) = randomVec(rng).transpose();
     const Vec6 aU = randomVec(rng, 3.0);
@@ -153,7 +144,7 @@ TEST(ContactQp, DegenerateRowsMatchBruteForce) {
   std::mt19937 rng(777);
   ContactQpSolver solver;
   for (int trial = 0; trial < 2000; ++trial) {
-    const Mat6 m = randomMass(rng);
+    const Mat6 m = test::randomMassMatrix(rng);
     ConstraintRows j(6, 6);
     const Vec6 base = randomVec(rng);
     j.row(0) = base.transpose();
@@ -175,7 +166,7 @@ TEST(ContactQp, ManyContactsSatisfyKkt) {
   ContactQpSolver solver;
   for (int trial = 0; trial < 40; ++trial) {
     const int rows = 50 + 10 * trial;
-    const Mat6 m = randomMass(rng);
+    const Mat6 m = test::randomMassMatrix(rng);
     // Contacts of a body on a bumpy floor: normals mostly -y, handles spread out, so the cone is not {0}.
     ConstraintRows j(rows, 6);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -194,7 +185,7 @@ TEST(ContactQp, Fig13AllDirectionsBlockedReportsStuckNeverNaN) {
   std::mt19937 rng(5);
   ContactQpSolver solver;
   for (int trial = 0; trial < 200; ++trial) {
-    const Mat6 m = randomMass(rng);
+    const Mat6 m = test::randomMassMatrix(rng);
     // +-e_i in a random orthonormal basis positively span R^6; extra random rows change nothing.
     const Eigen::HouseholderQR<Mat6> qr(Mat6::Random());
     const Mat6 q = qr.householderQ();

@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 
+#include "haptics/random_mass_matrix.h"
 #include "sdfccd/haptics/contact_qp.h"
 #include "sdfccd/haptics/lemke_lcp.h"
 #include "sdfccd/math_types.h"
@@ -25,17 +26,6 @@ struct Problem {
   Vec6 aU;
 };
 
-Mat6 randomSpd(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::uniform_real_distribution<double> pos(0.1, 5.0);
-  Eigen::Matrix3d a;
-  for (int i = 0; i < 9; ++i) a(i / 3, i % 3) = u(rng);
-  Mat6 m = Mat6::Zero();
-  m.topLeftCorner<3, 3>() = pos(rng) * Eigen::Matrix3d::Identity();
-  m.bottomRightCorner<3, 3>() = a * a.transpose() + 0.05 * Eigen::Matrix3d::Identity();
-  return m;
-}
-
 V3 randomUnit(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   V3 v(n(rng), n(rng), n(rng));
@@ -46,7 +36,7 @@ V3 randomUnit(std::mt19937& rng) {
 Problem randomProblem(std::mt19937& rng, int contacts) {
   std::normal_distribution<double> n(0.0, 1.0);
   Problem p;
-  p.mass = randomSpd(rng);
+  p.mass = test::randomMassMatrix(rng);
   for (int k = 0; k < contacts; ++k) {
     V3 normal = randomUnit(rng);
     normal.y() = -std::abs(normal.y()) - 0.3;

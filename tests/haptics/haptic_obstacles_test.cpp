@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
+#include "sdfccd/error.h"
 #include "sdfccd/haptics/god_object.h"
 #include "sdfccd/haptics/haptic_scene.h"
 #include "sdfccd/haptics/least_distance.h"
@@ -404,6 +406,31 @@ TEST(HapticObstacles, LeastDistanceMoveIsTheProjectionOntoTheHalfSpaces) {
   ASSERT_TRUE(r.feasible);
   EXPECT_NEAR(r.move[0], -0.2, 1e-12);
   EXPECT_NEAR(r.move[1], -0.8, 1e-12);
+}
+
+// Friction in the god-object is taken relative to the world: against a moving obstacle that would render the wrong
+// tangential force, so the combination is refused in one line; a static obstacle with friction is fine.
+TEST(HapticObstacles, GodObjectFrictionAgainstAMovingObstacleIsRefused) {
+  const auto tree = slabTool();
+  HapticObstacle wall;
+  wall.plane.emplace(Vec3(0.0, 1.0, 0.0), 0.0);
+  wall.cellSize = 1e-3;
+  GodObjectSettings s = godSettings();
+  s.qp.friction = 0.3;
+  {
+    ObstacleContacts still({wall}, *tree, nullptr);  // a temporary list: the obstacles are copied
+    EXPECT_NO_THROW(GodObject<GridField>(*tree, still, Rigid::Identity(), s));
+  }
+  std::vector<PoseKeyframe> keys = {{0.0, pose(Vec3(0.0, -0.01, 0.0), Vec3::Zero())},
+                                    {1.0, pose(Vec3(0.01, -0.01, 0.0), Vec3::Zero())}};
+  wall.path.keys = UserScript(keys);
+  ObstacleContacts moving({wall}, *tree, nullptr);
+  try {
+    GodObject<GridField> god(*tree, moving, Rigid::Identity(), s);
+    ADD_FAILURE() << "friction against a moving obstacle was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("moving obstacle"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -100,6 +100,9 @@ using SdfccdLogCallback = std::function<void(const std::string& line)>;
 struct SdfccdSolverPair;
 
 /// Settings of the contact model, shared by every pair of one world.
+/// The most narrowphase threads a contact system accepts (SdfccdContactSettings::threads, `--threads`).
+inline constexpr int kMaxNarrowphaseThreads = 1024;
+
 struct SdfccdContactSettings {
   /// Penalty (the paper's model) or Solver (speculative manifold points answered by Bullet's solver; see
   /// solver_contacts.cpp). Solver by default: on the 20-bunny drop it has the larger stable step at a lower cost

@@ -89,8 +89,9 @@ struct ObstaclePenaltySum {
 class ObstacleContacts {
  public:
   /// `toolTree`: the tool's shell (body frame, origin at the centre of mass); `toolField`: the tool's field in
-  /// the same frame (null: shell obstacles are an error). Throws sdfccd::Error on an obstacle with neither a field
-  /// nor a shell, or a shell obstacle without a tool field.
+  /// the same frame (null: shell obstacles are an error); both must outlive this object. The obstacles are copied
+  /// (their fields and shells are shared). Throws sdfccd::Error on an obstacle with neither a field nor a shell,
+  /// or a shell obstacle without a tool field.
   ObstacleContacts(const std::vector<HapticObstacle>& obstacles, const PointTree& toolTree, const GridField* toolField);
   ~ObstacleContacts();
   ObstacleContacts(const ObstacleContacts&) = delete;
@@ -102,6 +103,8 @@ class ObstacleContacts {
   void moveOver(double time0, double time1);
   Rigid worldFromObstacle(std::size_t i) const;
   std::size_t size() const;
+  /// True when an obstacle moves along a path.
+  bool anyMoving() const;
 
   // --- Constraint method (god_object.h), with the obstacles held at their present pose. ---
   /// The move that pushes the tool out of the obstacles' way after they moved (see the file comment); returns the
@@ -127,6 +130,7 @@ class ObstacleContacts {
   double penetration(const Rigid& worldFromTool);
 
  private:
+  std::vector<HapticObstacle> m_obstacles;  // the pairs refer to these: declared first, destroyed last
   std::vector<std::unique_ptr<ObstaclePair>> m_pairs;
 };
 
