@@ -306,11 +306,11 @@ void readConstraint(const Reader& r, const Json& root, double cell, GodObjectSet
   if (root.contains("constraint")) {
     const std::string where = "constraint";
     const Json& c = r.object(root, "constraint", "");
-    r.checkKeys(c,
-                {"couplingGain", "renderStiffness", "sigmaCells", "contactThresholdCells", "slideFloorCells",
-                 "sinkToleranceCells", "maxStepCells", "maxStepRotation", "depthCorrection", "friction",
-                 "frictionFaces"},
-                where);
+    r.checkKeys(
+        c,
+        {"couplingGain", "renderStiffness", "sigmaCells", "contactThresholdCells", "slideFloorCells",
+         "sinkToleranceCells", "maxStepCells", "maxStepRotation", "depthCorrection", "friction", "frictionFaces"},
+        where);
     g.couplingGain = r.positive(c, "couplingGain", where, g.couplingGain);
     g.renderStiffness = r.nonNegative(c, "renderStiffness", where, g.renderStiffness);
     g.sigma = r.nonNegative(c, "sigmaCells", where, 0.02) * cell;
