@@ -36,8 +36,8 @@ struct SdfccdContactSystem::BodyStep {
   }
 };
 
-/// One role of one pair over the current step.
-struct SdfccdContactSystem::Record {
+/// One role of one pair over the current step (SdfccdContactSystem::Record).
+struct detail::ContactRecord {
   std::size_t shell = 0;  // indices into m_bodies
   std::size_t field = 0;
   PenaltyResult penalty;

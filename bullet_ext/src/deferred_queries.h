@@ -10,15 +10,18 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <type_traits>
 #include <unordered_map>
 #include <vector>
 
+#include "contact_step.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/response/contact_query.h"
+#include "sdfccd/response/contact_reduction.h"
 
 namespace sdfccd::detail {
 
@@ -44,20 +47,46 @@ struct HeldField<PlaneField> {
   PlaneField value;
 };
 
+/// One role's work that touches no Bullet object: the query and what is computed from it (penalty_role.h,
+/// solver_contacts.cpp). The stepping thread then applies it (statistics, manifold points, impulses, records).
+struct RoleResult {
+  ContactQueryResult query;  // penalty mode: queryContacts; solver mode: the CCD in `ccd`, `ccdSeconds`
+  double roleScale = 1.0;      // s_r of the role (penalty mode's contact load)
+  bool ground = false;         // the field is a plane (the ground's statistics)
+  double shadowSeconds = 0.0;  // the point-by-point repeat's CPU time (shadowLinearEvery), 0 when none ran
+  // Penalty mode: the deepest points at the step's end (world; normal on the manifold's convention, depth < 0).
+  struct ManifoldPoint {
+    Vec3 normal = Vec3::Zero();
+    Vec3 point = Vec3::Zero();
+    double depth = 0.0;
+  };
+  std::vector<ManifoldPoint> manifoldPoints;
+  bool hasRecord = false;  // the CCD found contacts: `record` holds the role's step
+  ContactRecord record;
+  // Solver mode: the role's candidates at the step's start, with their rebound and solver distance.
+  std::vector<ContactCandidate> candidates;
+  std::vector<double> bounce;
+  std::vector<double> distance;
+  double margin = 0.0;  // the speculative margin (m)
+};
+
 class DeferredQueries {
  public:
-  /// Writes one query's result (penalty mode: queryContacts; solver mode: the CCD into `ccd` and `ccdSeconds`).
-  using Compute = std::function<void(ContactQueryResult&)>;
+  /// Writes one role's work (penalty_role.h; solver mode: solver_contacts.cpp).
+  using Compute = std::function<void(RoleResult&)>;
 
   /// Forgets the last step's queries (keeps the result buffers).
   void clear();
+  /// Queues the query of (manifold, role); a key is planned once per step.
   void add(const void* manifold, int role, Compute compute);
   std::size_t size() const { return m_jobs.size(); }
   /// Computes every query on `pool`, each into its own result.
   void runAll(NarrowphasePool& pool);
-  /// Swaps the result of (manifold, role) into `out` (buffers circulate); false when there is none, or it was
-  /// taken already. Rethrows what the query threw, where the serial narrowphase would have thrown it.
-  bool take(const void* manifold, int role, ContactQueryResult& out);
+  /// The result of (manifold, role), valid until the next clear(); null when there is none, or it was taken
+  /// already. Rethrows what the query threw, where the serial narrowphase would have thrown it.
+  const RoleResult* take(const void* manifold, int role);
+  /// Was (manifold, role) planned this step, and not taken yet?
+  bool pending(const void* manifold, int role);
 
  private:
   struct Key {
@@ -71,14 +100,20 @@ class DeferredQueries {
     }
   };
   struct Job {
+    Key key;
     Compute compute;
     std::exception_ptr error;  // thrown on a worker: rethrown by take() on the stepping thread
     bool done = false;
     bool taken = false;
   };
   std::vector<Job> m_jobs;
-  std::vector<ContactQueryResult> m_results;  // m_results[i] belongs to m_jobs[i]; kept across steps
-  std::unordered_map<Key, std::size_t, KeyHash> m_index;
+  std::vector<RoleResult> m_results;  // m_results[i] belongs to m_jobs[i]; kept across steps (their buffers)
+  /// The job of `key`, or -1. Bullet takes the pairs in the order the plan walked them (its pair array), so the
+  /// job after the last one found is tried first; the hashed index is built only when that guess fails.
+  std::ptrdiff_t find(const Key& key);
+  std::size_t m_cursor = 0;
+  std::unordered_map<Key, std::size_t, KeyHash> m_index;  // built on the first failed guess of a step
+  bool m_indexed = false;
 };
 
 }  // namespace sdfccd::detail

@@ -29,6 +29,7 @@
 #include "motion_prediction.h"
 #include "narrowphase_pool.h"
 #include "parallel_step.h"
+#include "penalty_role.h"
 #include "resting_pairs.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
@@ -36,7 +37,6 @@
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/response/contact_material.h"
-#include "sdfccd/thread_cpu_time.h"
 
 namespace sdfccd {
 
@@ -46,15 +46,6 @@ using detail::toBt;
 using detail::toRigid;
 using detail::toVec3;
 using detail::withConvexField;
-
-namespace {
-
-/// Wall time (s), for the penalty integrals' statistics.
-double steadySeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-}  // namespace
 
 SdfccdContactSystem::SdfccdContactSystem(const SdfccdContactSettings& settings)
     : m_convexShapes(std::make_unique<detail::ConvexShapeCache>()),
@@ -125,6 +116,12 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (!closestPointsOnly) manifold->setContactProcessingThreshold(-BT_LARGE_FLOAT);
   }
   if (!m_planning) resultOut->setPersistentManifold(manifold);
+  // A pair computed in this step's parallel batch (every role of it: our shells against our fields or a plane)
+  // applies its roles' results in role order, with no second setup (sdfccd_parallel_step.cpp).
+  if (!m_planning && !closestPointsOnly && m_deferred->pending(manifold, 0)) {
+    applyPlannedPair(wrap0, wrap1, dispatchInfo, resultOut, manifold, solver ? solverPair : nullptr);
+    return;
+  }
   // Unsupported: no shape of ours (btSdfCollisionShape shares our type id), a shape we cannot read, or a convex
   // shape without volume (its shell or field would be null).
   const bool convexOk = otherKind != ShapeKind::Convex ||
@@ -282,17 +279,22 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
 template <class Field>
 void SdfccdContactSystem::processRole(const Role& role, const Field& field, double thresholdCells, double cellSize,
                                       double timeStep, btManifoldResult* resultOut, bool closestPointsOnly) {
+  constexpr bool ground = std::is_same_v<Field, PlaneField>;
+  // Computed in this step's parallel batch: apply it.
+  if (const detail::RoleResult* planned = takePlanned(role, detail::kDeferrableField<Field>)) {
+    applyPenaltyRole(*planned, resultOut, closestPointsOnly);
+    return;
+  }
   const BodyStep& shell = m_bodies[role.shell];
   const BodyStep& fieldBody = m_bodies[role.field];
-  const PointTree& tree = *role.shellTree;
-  const PointShell& shellPoints = tree.shell();
-  const bool discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
+  detail::PenaltyRoleInput in;
+  in.discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
 
   // The frame contract of queryContacts (contact_query.h): the shell's points live in its body frame (whose
   // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
   // looks at the current poses: nothing moves.
   // A compound child's frame sits at bodyFromChild in its body; handles go from the body's centre of mass.
-  ShellMotion shellMotion;
+  ShellMotion& shellMotion = in.shellMotion;
   shellMotion.worldFromShellStart = shell.worldFromBodyStart * role.bodyFromShellChild;
   shellMotion.worldFromShellEnd =
       closestPointsOnly ? shellMotion.worldFromShellStart : Rigid(shell.worldFromBodyEnd * role.bodyFromShellChild);
@@ -300,20 +302,17 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   shellMotion.velocity = shell.velocity;
   shellMotion.mass = shell.mass;
   const Rigid bodyFromSdf = role.bodyFromFieldChild * role.bodyFromField;
-  FieldMotion fieldMotion;
+  FieldMotion& fieldMotion = in.fieldMotion;
   fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
   fieldMotion.worldFromSdfEnd =
       closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * bodyFromSdf);
   fieldMotion.centerOfMassInSdf = bodyFromSdf.inverse().translation();
   fieldMotion.velocity = fieldBody.velocity;
   fieldMotion.mass = fieldBody.mass;
-  const Rigid& worldFromShellEnd = shellMotion.worldFromShellEnd;
-  const Rigid& worldFromFieldStart = fieldMotion.worldFromSdfStart;
-  const Rigid& worldFromFieldEnd = fieldMotion.worldFromSdfEnd;
 
-  ContactQuerySettings query;
+  ContactQuerySettings& query = in.query;
   query.penalty = role.penalty != nullptr ? *role.penalty : m_settings.penalty;
-  if (discrete) query.penalty.model = PenaltyModel::Discrete;
+  if (in.discrete) query.penalty.model = PenaltyModel::Discrete;
   query.penalty.roleScale = role.roleScale;
   query.penalty.friction = role.friction;
   query.penalty.dampingRatio = role.dampingRatio;
@@ -325,140 +324,61 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   query.useTree = m_settings.useTree;
   query.threads = 1;
   query.integratePenalty = !closestPointsOnly;
-  // The query holds copies of its inputs: it may run later, on the pool (obtainQuery, parallel_step.h).
-  auto compute = [tree = &tree, held = detail::HeldField<Field>(field), shellMotion, fieldMotion, timeStep,
-                  query](ContactQueryResult& out) {
-    ContactQueryClocks clocks;
-    clocks.ccd = &threadCpuSeconds;
-    clocks.penalty = &steadySeconds;
-    queryContacts(*tree, held.get(), shellMotion, fieldMotion, timeStep, query, out, clocks);
+  in.timeStep = timeStep;
+  in.cellSize = cellSize;
+  in.thresholdCells = thresholdCells;
+  in.shell = role.shell;
+  in.field = role.field;
+  in.shellIsBody0 = role.shellIsBody0;
+  in.closestPointsOnly = closestPointsOnly;
+  in.timeOfImpactClamp = m_settings.timeOfImpactClamp;
+  in.maxManifoldPoints = m_settings.maxManifoldPoints;
+  in.shellKinematic = shell.kinematic;
+  in.fieldKinematic = fieldBody.kinematic;
+  in.shadowLinear = !closestPointsOnly && m_settings.shadowLinearEvery > 0 &&
+                    m_stepCounter % m_settings.shadowLinearEvery == 0 && !ground;
+  in.roleScale = role.roleScale;
+  in.ground = ground;
+  // The work holds copies of its inputs: it may run later, on the pool (runOrQueue, parallel_step.h).
+  auto compute = [tree = role.shellTree, held = detail::HeldField<Field>(field), in](detail::RoleResult& out) {
+    detail::computePenaltyRole(*tree, held.get(), in, out);
   };
-  if (!obtainQuery(role, detail::kDeferrableField<Field>, compute, m_scratch)) return;
-  const RigidCcdResult& ccdResult = m_scratch.ccd;
-  const Rigid& sdfFromShellStart = m_scratch.sdfFromShellStart;
-  const Rigid& sdfFromShellEnd = m_scratch.sdfFromShellEnd;
-  if (!closestPointsOnly && m_settings.shadowLinearEvery > 0 && m_stepCounter % m_settings.shadowLinearEvery == 0 &&
-      !std::is_same_v<Field, PlaneField>) {
-    RigidCcdSettings linear;
-    linear.sigma = query.penalty.sigma;
-    linear.mode = discrete ? query.discreteMode : CcdMode::AllIntervals;
-    linear.octree = query.octree;
-    linear.useTree = false;
-    linear.threads = 1;
-    const double shadowStart = threadCpuSeconds();
-    rigidCcd(tree, field, discrete ? sdfFromShellEnd : sdfFromShellStart, sdfFromShellEnd, linear, m_shadowScratch);
-    m_stats.shadowLinearSeconds += threadCpuSeconds() - shadowStart;
+  if (const detail::RoleResult* result = runOrQueue(role, detail::kDeferrableField<Field>, compute)) {
+    applyPenaltyRole(*result, resultOut, closestPointsOnly);
   }
-  m_stats.ccdSeconds += m_scratch.ccdSeconds;
-  if constexpr (std::is_same_v<Field, PlaneField>) {
-    m_stats.groundCcdSeconds += m_scratch.ccdSeconds;
+}
+
+void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btManifoldResult* resultOut,
+                                           bool closestPointsOnly) {
+  const ContactQueryResult& query = result.query;
+  m_stats.shadowLinearSeconds += result.shadowSeconds;
+  m_stats.ccdSeconds += query.ccdSeconds;
+  if (result.ground) {
+    m_stats.groundCcdSeconds += query.ccdSeconds;
     ++m_stats.groundCcdQueries;
   }
-  if (m_scratch.coefficients.stiffnessCapped) ++m_stats.softenedPairs;
+  if (query.coefficients.stiffnessCapped) ++m_stats.softenedPairs;
   ++m_stats.ccdQueries;
-  m_stats.segmentQueries += ccdResult.stats.segmentQueries;
-  if (ccdResult.contacts.empty()) return;
-
-  // Manifold points: the deepest points at the step's end, for users (the solver ignores them).
-  if (m_settings.maxManifoldPoints > 0) {
-    std::vector<std::pair<double, int>> deepest;
-    for (int i = 0; i < static_cast<int>(ccdResult.contacts.size()); ++i) {
-      if (ccdResult.contacts[static_cast<std::size_t>(i)].depthAtEnd < 0.0) {
-        deepest.emplace_back(ccdResult.contacts[static_cast<std::size_t>(i)].depthAtEnd, i);
-      }
-    }
-    const std::size_t keep = std::min(deepest.size(), static_cast<std::size_t>(m_settings.maxManifoldPoints));
-    std::partial_sort(deepest.begin(), deepest.begin() + static_cast<std::ptrdiff_t>(keep), deepest.end());
-    for (std::size_t k = 0; k < keep; ++k) {
-      const PointContact& c = ccdResult.contacts[static_cast<std::size_t>(deepest[k].second)];
-      const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
-      const Vec3 pointInWorld = worldFromShellEnd * pointInShell;
-      Vec3 gradientInWorld = worldFromFieldEnd.linear() * field.gradient(sdfFromShellEnd * pointInShell);
-      if (!(gradientInWorld.norm() > 0.0)) continue;
-      gradientInWorld.normalize();
-      const double depth = c.depthAtEnd;
-      if (role.shellIsBody0) {
-        // B is the field: its outward normal points towards A; the point on B is on the field's surface.
-        resultOut->addContactPoint(toBt(gradientInWorld), toBt(Vec3(pointInWorld - gradientInWorld * depth)),
-                                   btScalar(depth));
-      } else {
-        // B is the shell: its point is on B, and B's normal towards A is minus A's field gradient.
-        resultOut->addContactPoint(toBt(Vec3(-gradientInWorld)), toBt(pointInWorld), btScalar(depth));
-      }
-    }
+  m_stats.segmentQueries += query.ccd.stats.segmentQueries;
+  if (query.ccd.contacts.empty()) return;
+  for (const detail::RoleResult::ManifoldPoint& p : result.manifoldPoints) {
+    resultOut->addContactPoint(toBt(p.normal), toBt(p.point), btScalar(p.depth));
   }
-  if (closestPointsOnly) return;
-
-  Record record;
-  record.shell = role.shell;
-  record.field = role.field;
-  record.penalty = m_scratch.penalty;
-  m_stats.penaltySeconds += m_scratch.penaltySeconds;
+  if (closestPointsOnly || !result.hasRecord) return;
+  Record record = result.record;
+  m_stats.penaltySeconds += query.penaltySeconds;
   m_stats.penaltySamples += record.penalty.samples;
   m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
   m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
-  record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
-  addContactLoad(record, role.roleScale);
-  record.firstFraction = ccdResult.firstFraction;
-  record.timeStep = timeStep;
-
-  if (!discrete && m_settings.timeOfImpactClamp) {
-    // A point that entered during the step and went deeper than the threshold (at an interval's middle, or
-    // at the end) would be stopped too late by forces that act one step later: clamp at its first hit.
-    const double threshold = thresholdCells * cellSize;
-    std::vector<std::pair<double, Record::ClampPoint>> entering;
-    for (const PointContact& c : ccdResult.contacts) {
-      if (c.state != SegmentState::Hit || !(c.fraction > 0.0) || c.intervals.empty()) continue;
-      const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
-      const Vec3 p0 = sdfFromShellStart * pointInShell;
-      const Vec3 p1 = sdfFromShellEnd * pointInShell;
-      double deepest = c.depthAtEnd;
-      for (std::size_t i = 0; i < c.intervals.size(); ++i) {
-        const double t = 0.5 * (c.intervals[i].begin + c.intervals[i].end);
-        deepest = std::min(deepest, field.distance(p0 + t * (p1 - p0)) - query.penalty.sigma);
-      }
-      if (!(deepest < -threshold)) continue;
-      Record::ClampPoint clampPoint;
-      clampPoint.pointInShell = pointInShell;
-      clampPoint.normal = (worldFromFieldStart.linear() * c.fieldNormalInSdf).normalized();
-      if (!clampPoint.normal.allFinite()) continue;
-      entering.emplace_back(c.fraction, clampPoint);
-    }
-    if (!entering.empty()) {
-      std::stable_sort(entering.begin(), entering.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
-      if (entering.size() > kMaxClampPoints) entering.resize(kMaxClampPoints);
-      record.clamp = true;
-      record.clampFraction = entering.front().first;
-      record.action = clampAction(true, shell.kinematic, fieldBody.kinematic);
-      for (auto& e : entering) {
-        const Vec3 startInWorld = shellMotion.worldFromShellStart * e.second.pointInShell;
-        e.second.point = startInWorld +
-                         record.clampFraction * (shellMotion.worldFromShellEnd * e.second.pointInShell - startInWorld);
-        record.clampPoints.push_back(e.second);
-      }
-    }
-    if (record.clamp && record.action == ClampAction::Rewind) {
-      // The bodies go back to the clamp fraction: report the penetration there, not along the discarded path.
-      double deepest = 0.0;
-      for (const PointContact& c : ccdResult.contacts) {
-        const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
-        const Vec3 p0 = sdfFromShellStart * pointInShell;
-        const Vec3 p1 = sdfFromShellEnd * pointInShell;
-        deepest = std::max(deepest, -(field.distance(p0 + record.clampFraction * (p1 - p0)) - query.penalty.sigma));
-      }
-      record.maxPenetrationCells = deepest / cellSize;
-      record.penalty.maxPenetration = deepest;
-    }
-  }
+  addContactLoad(record, result.roleScale, query.coefficients);
   // A kinematic pair keeps its penalty impulses (it is never rewound).
   if (m_settings.forceTiming == ForceTiming::SameStep &&
       (!record.clamp || record.action == ClampAction::KinematicPush)) {
     applyPenaltyImpulses(record);
     record.applied = true;
   }
-  m_records.push_back(record);
+  m_records.push_back(std::move(record));
 }
 
 // registerSdfccdAlgorithms(): sdfccd_registration.cpp.

@@ -33,12 +33,14 @@
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include <chrono>
 #include <memory>
 #include <optional>
 
 #include "bullet_shape_fields.h"
+#include "contact_step.h"
 #include "deferred_queries.h"
 #include "narrowphase_pool.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
@@ -99,6 +101,32 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
   const auto start = std::chrono::steady_clock::now();
   m_deferred->runAll(*m_pool);
   m_stats.parallelWallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void SdfccdContactSystem::applyPlannedPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
+                                           const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut,
+                                           btPersistentManifold* manifold, SdfccdSolverPair* solverPair) {
+  if (solverPair != nullptr) {
+    m_candidates.clear();
+    m_candidateBounce.clear();
+    m_candidateDistance.clear();
+    m_candidateMargin = 0.0;
+    m_solverTimeStep = dispatchInfo.m_timeStep > 0 ? double(dispatchInfo.m_timeStep) : 1.0 / 60.0;
+  }
+  // The roles in the order processPair runs them (their index in the pair).
+  for (int role = 0;; ++role) {
+    const detail::RoleResult* result = m_deferred->take(manifold, role);
+    if (result == nullptr) break;
+    ++m_stats.deferredQueries;
+    if (solverPair != nullptr) {
+      applySolverRole(*result);
+    } else {
+      applyPenaltyRole(*result, resultOut, false);
+    }
+  }
+  if (solverPair == nullptr) return;
+  const bool swapped = manifold->getBody0() != wrap0->getCollisionObject();
+  writeSolverManifolds(swapped ? wrap1 : wrap0, swapped ? wrap0 : wrap1, manifold, *solverPair);
 }
 
 }  // namespace sdfccd

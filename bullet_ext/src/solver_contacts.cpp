@@ -19,10 +19,10 @@
 
 #include "contact_step.h"
 #include "parallel_step.h"
+#include "penalty_role.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
-#include "sdfccd/thread_cpu_time.h"
 #include "sdfccd/tolerances.h"
 
 namespace sdfccd {
@@ -109,78 +109,76 @@ double reboundCoefficient(double e, double gap, double solverDistance, double sp
   return std::max(0.0, (target + solverDistance / dt) / speed - e);
 }
 
-}  // namespace
-
-template <class Field>
-void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field& field, double cellSize,
-                                                  bool shellIsManifoldBody0) {
-  const BodyStep& shell = m_bodies[role.shell];
-  const BodyStep& fieldBody = m_bodies[role.field];
-  const PointTree& tree = *role.shellTree;
-  const PointShell& shellPoints = tree.shell();
-  const double margin = std::min(m_settings.speculativeMarginCells * cellSize, m_settings.maxSpeculativeMargin);
-  m_candidateMargin = std::max(m_candidateMargin, margin);
-  // A compound child's shell and field sit at their child frames in their bodies (bodyFrom*Child).
-  const Rigid bodyFromSdf = role.bodyFromFieldChild * role.bodyFromField;
-  const Rigid worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
-  const Rigid worldFromSdfEnd = fieldBody.worldFromBodyEnd * bodyFromSdf;
-  const Rigid worldFromShellStart = shell.worldFromBodyStart * role.bodyFromShellChild;
-  const Rigid sdfFromShellStart = worldFromSdfStart.inverse() * worldFromShellStart;
-  const Rigid sdfFromShellEnd = worldFromSdfEnd.inverse() * shell.worldFromBodyEnd * role.bodyFromShellChild;
-  const BodySweep shellSweep(shell.worldFromBodyStart, shell.worldFromBodyEnd);
-  const BodySweep fieldSweep(fieldBody.worldFromBodyStart, fieldBody.worldFromBodyEnd);
-  const double restitution = double(gCalculateCombinedRestitutionCallback(shell.object, fieldBody.object));
-
+/// What a solver role's work reads, by value (it may run later, on the pool).
+struct SolverRoleInput {
+  Rigid sdfFromShellStart = Rigid::Identity();
+  Rigid sdfFromShellEnd = Rigid::Identity();
+  Rigid worldFromSdfStart = Rigid::Identity();
+  Rigid worldFromShellStart = Rigid::Identity();
+  Rigid shellStart = Rigid::Identity();  // the bodies' centre-of-mass frames at the step's start and end
+  Rigid shellEnd = Rigid::Identity();
+  Rigid fieldStart = Rigid::Identity();
+  Rigid fieldEnd = Rigid::Identity();
+  BodyVelocities shellVelocity;
+  BodyVelocities fieldVelocity;
   RigidCcdSettings ccd;
-  ccd.sigma = margin;
-  ccd.mode = CcdMode::FirstHit;
-  ccd.octree = m_settings.octree;
-  ccd.useTree = m_settings.useTree;
-  ccd.threads = 1;
-  // The CCD holds copies of its inputs: it may run later, on the pool (obtainQuery, parallel_step.h). With the
-  // pair and role's history (our shell against our field; it belongs to this role's one job) the query starts from
-  // its last front; one its certificates answer alone (no contact possible) is not timed (contact_query.h, Timing).
-  auto compute = [tree = &tree, held = detail::HeldField<Field>(field), sdfFromShellStart, sdfFromShellEnd, ccd,
-                  coherence = role.coherence](ContactQueryResult& out) {
-    out.ccdSeconds = 0.0;
-    if (coherence &&
-        rigidCcdCertifiedClear(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, *coherence, out.ccd)) {
-      return;
-    }
-    const double start = threadCpuSeconds();
-    if (coherence) {
-      rigidCcd(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, *coherence, out.ccd);
-    } else {
-      rigidCcd(*tree, held.get(), sdfFromShellStart, sdfFromShellEnd, ccd, out.ccd);
-    }
-    out.ccdSeconds = threadCpuSeconds() - start;
-  };
-  if (!obtainQuery(role, detail::kDeferrableField<Field>, compute, m_solverResult)) return;
-  std::swap(m_solverCcd, m_solverResult.ccd);  // what follows reads m_solverCcd; both keep their buffers
-  const double seconds = m_solverResult.ccdSeconds;
-  m_stats.ccdSeconds += seconds;
-  if constexpr (std::is_same_v<Field, PlaneField>) {
-    m_stats.groundCcdSeconds += seconds;
-    ++m_stats.groundCcdQueries;
-  }
-  ++m_stats.ccdQueries;
-  m_stats.segmentQueries += m_solverCcd.stats.segmentQueries;
-  if (m_solverCcd.contacts.empty()) return;
+  RigidCcdCoherence* coherence = nullptr;  // the pair and role's history: this role's job alone touches it
+  double margin = 0.0;                     // m, the speculative margin
+  double restitution = 0.0;                // the pair's combined restitution
+  double timeStep = 0.0;                   // s
+  double cellSize = 0.0;                   // m, for the record's penetration in cells
+  std::size_t shell = 0;                   // body indices, for the record
+  std::size_t field = 0;
+  bool shellIsManifoldBody0 = true;
+  bool ground = false;  // passed on to the result (RoleResult)
+};
 
+/// Solver mode, one role's work that touches no Bullet object: the CCD with the speculative margin and each
+/// listed point as a candidate at the step's start (normals on the manifold's body 1), into `out`.
+template <class Field>
+void computeSolverRole(const PointTree& tree, const Field& field, const SolverRoleInput& in, detail::RoleResult& out) {
+  out.margin = in.margin;
+  out.ground = in.ground;
+  out.candidates.clear();
+  out.bounce.clear();
+  out.distance.clear();
+  out.hasRecord = false;
+  ContactQueryResult& query = out.query;
+  query.ccdSeconds = 0.0;
+  // With the pair and role's history (our shell against our field) the query starts from its last front; one its
+  // certificates answer alone (no contact possible) is not timed (contact_query.h, Timing).
+  if (!(in.coherence && rigidCcdCertifiedClear(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd,
+                                                *in.coherence, query.ccd))) {
+    const double start = detail::steadySeconds();
+    if (in.coherence) {
+      rigidCcd(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd, *in.coherence, query.ccd);
+    } else {
+      rigidCcd(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd, query.ccd);
+    }
+    query.ccdSeconds = detail::steadySeconds() - start;
+  }
+  if (query.ccd.contacts.empty()) return;
+
+  const PointShell& shellPoints = tree.shell();
+  const double margin = in.margin;
+  const BodySweep shellSweep(in.shellStart, in.shellEnd);
+  const BodySweep fieldSweep(in.fieldStart, in.fieldEnd);
   // Candidate ids are unique over both roles of the pair: 2 * shell point + role (0: the shell is body 0).
-  const int roleId = shellIsManifoldBody0 ? 0 : 1;
-  Record record;  // the contact report only: nothing for the penalty action to apply
-  record.shell = role.shell;
-  record.field = role.field;
+  const int roleId = in.shellIsManifoldBody0 ? 0 : 1;
+  detail::ContactRecord& record = out.record;  // the contact report only: nothing for the penalty action to apply
+  record = detail::ContactRecord{};
+  out.hasRecord = true;
+  record.shell = in.shell;
+  record.field = in.field;
   record.applied = true;
-  record.firstFraction = m_solverCcd.firstFraction;
-  for (const PointContact& c : m_solverCcd.contacts) {
+  record.firstFraction = query.ccd.firstFraction;
+  for (const PointContact& c : query.ccd.contacts) {
     const Vec3& pointInShell = shellPoints.positions[static_cast<std::size_t>(c.point)];
-    const Vec3 p0 = sdfFromShellStart * pointInShell;
+    const Vec3 p0 = in.sdfFromShellStart * pointInShell;
     Vec3 normalInSdf;
     double distance = 0.0;
     double bounce = 0.0;
-    const Vec3 p1 = sdfFromShellEnd * pointInShell;
+    const Vec3 p1 = in.sdfFromShellEnd * pointInShell;
     if (c.state == SegmentState::StartsInside) {
       normalInSdf = field.gradient(p0);
       distance = field.distance(p0);
@@ -196,15 +194,15 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
     // How far the point's own chord over the predicted step travels towards its contact plane.
     const double approach = normalInSdf.dot(p0 - p1) / length;
     // Out of the field body, towards the shell point; Bullet's normal is on body 1, pointing to body 0.
-    const Vec3 normalInWorld = worldFromSdfStart.linear() * (normalInSdf / length);
+    const Vec3 normalInWorld = in.worldFromSdfStart.linear() * (normalInSdf / length);
     // A shell point whose own surface does not face the field (its outward normal more than 75 degrees from -n)
     // grazes it: a side face beside a face it rests on, or a face point past the other body's edge, where the
     // field's gradient turns sideways (radial about the edge, and tilted further by the grid's interpolation).
     // Such points pushed stacked boxes sideways (a 10-box stack swayed and did not sleep); their neighbours on the
     // facing side carry the contact. Edges and corners (averaged normals, 45 and 55 degrees off) stay.
-    const Vec3 shellNormal = worldFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
+    const Vec3 shellNormal = in.worldFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
     if (shellNormal.dot(normalInWorld) > -kGrazingCosine) continue;
-    const Vec3 offsetStart = worldFromShellStart * pointInShell - shellSweep.centre;
+    const Vec3 offsetStart = in.worldFromShellStart * pointInShell - shellSweep.centre;
     const ArcGap arc(shellSweep, fieldSweep, normalInWorld, offsetStart);
     // A separated point whose path over the predicted step never reaches its contact plane is no contact (the
     // points ahead of a rolling sphere's contact, which approach the ground by rotation and pass above it).
@@ -230,27 +228,92 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
                                                    fieldSweep.lineDisplacement(position - fieldSweep.centre));
     const double gapAtRow = fraction >= 1.0 ? distance - approach : distance + arc.change(fraction);
     const double solverDistance = distance < 0.0 ? distance : std::max(0.0, gapAtRow / fraction + lineApproach);
-    if (c.state == SegmentState::Hit && distance > 0.0 && lineApproach > 0.0 && restitution > 0.0) {
-      const Vec3 shellVelocity = shell.velocity.linearStart + shell.velocity.angularStart.cross(offsetAtRow);
+    if (c.state == SegmentState::Hit && distance > 0.0 && lineApproach > 0.0 && in.restitution > 0.0) {
+      const Vec3 shellVelocity = in.shellVelocity.linearStart + in.shellVelocity.angularStart.cross(offsetAtRow);
       const Vec3 fieldVelocity =
-          fieldBody.velocity.linearStart + fieldBody.velocity.angularStart.cross(position - fieldSweep.centre);
+          in.fieldVelocity.linearStart + in.fieldVelocity.angularStart.cross(position - fieldSweep.centre);
       const double speed = -normalInWorld.dot(shellVelocity - fieldVelocity);  // Bullet's -rel_vel (before forces)
-      bounce = reboundCoefficient(restitution, distance, solverDistance, speed, lineApproach, m_solverTimeStep);
+      bounce = reboundCoefficient(in.restitution, distance, solverDistance, speed, lineApproach, in.timeStep);
     }
     ContactCandidate candidate;
     candidate.position = position;
-    candidate.normal = shellIsManifoldBody0 ? normalInWorld : Vec3(-normalInWorld);
+    candidate.normal = in.shellIsManifoldBody0 ? normalInWorld : Vec3(-normalInWorld);
     // Ranked by how far the predicted line motion breaks the row (most first): the reduction keeps the least.
     candidate.distance = solverDistance - lineApproach;
     candidate.point = 2 * c.point + roleId;
-    m_candidates.push_back(candidate);
-    m_candidateBounce.push_back(bounce);
-    m_candidateDistance.push_back(solverDistance);
+    out.candidates.push_back(candidate);
+    out.bounce.push_back(bounce);
+    out.distance.push_back(solverDistance);
     ++record.penalty.contactCount;
     record.penalty.maxPenetration = std::max(record.penalty.maxPenetration, -distance);
   }
-  record.maxPenetrationCells = record.penalty.maxPenetration / cellSize;
-  m_records.push_back(record);
+  record.maxPenetrationCells = record.penalty.maxPenetration / in.cellSize;
+}
+
+}  // namespace
+
+template <class Field>
+void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field& field, double cellSize,
+                                                  bool shellIsManifoldBody0) {
+  // Computed in this step's parallel batch: apply it.
+  if (const detail::RoleResult* planned = takePlanned(role, detail::kDeferrableField<Field>)) {
+    applySolverRole(*planned);
+    return;
+  }
+  const BodyStep& shell = m_bodies[role.shell];
+  const BodyStep& fieldBody = m_bodies[role.field];
+  SolverRoleInput in;
+  in.margin = std::min(m_settings.speculativeMarginCells * cellSize, m_settings.maxSpeculativeMargin);
+  // A compound child's shell and field sit at their child frames in their bodies (bodyFrom*Child).
+  const Rigid bodyFromSdf = role.bodyFromFieldChild * role.bodyFromField;
+  in.worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
+  const Rigid worldFromSdfEnd = fieldBody.worldFromBodyEnd * bodyFromSdf;
+  in.worldFromShellStart = shell.worldFromBodyStart * role.bodyFromShellChild;
+  in.sdfFromShellStart = in.worldFromSdfStart.inverse() * in.worldFromShellStart;
+  in.sdfFromShellEnd = worldFromSdfEnd.inverse() * shell.worldFromBodyEnd * role.bodyFromShellChild;
+  in.shellStart = shell.worldFromBodyStart;
+  in.shellEnd = shell.worldFromBodyEnd;
+  in.fieldStart = fieldBody.worldFromBodyStart;
+  in.fieldEnd = fieldBody.worldFromBodyEnd;
+  in.shellVelocity = shell.velocity;
+  in.fieldVelocity = fieldBody.velocity;
+  in.restitution = double(gCalculateCombinedRestitutionCallback(shell.object, fieldBody.object));
+  in.timeStep = m_solverTimeStep;
+  in.cellSize = cellSize;
+  in.shell = role.shell;
+  in.field = role.field;
+  in.shellIsManifoldBody0 = shellIsManifoldBody0;
+  in.ground = std::is_same_v<Field, PlaneField>;
+  in.ccd.sigma = in.margin;
+  in.ccd.mode = CcdMode::FirstHit;
+  in.ccd.octree = m_settings.octree;
+  in.ccd.useTree = m_settings.useTree;
+  in.ccd.threads = 1;
+  in.coherence = role.coherence;
+  // The work holds copies of its inputs: it may run later, on the pool (runOrQueue, parallel_step.h).
+  auto compute = [tree = role.shellTree, held = detail::HeldField<Field>(field), in](detail::RoleResult& out) {
+    computeSolverRole(*tree, held.get(), in, out);
+  };
+  if (const detail::RoleResult* result = runOrQueue(role, detail::kDeferrableField<Field>, compute)) {
+    applySolverRole(*result);
+  }
+}
+
+void SdfccdContactSystem::applySolverRole(const detail::RoleResult& result) {
+  m_candidateMargin = std::max(m_candidateMargin, result.margin);
+  const double seconds = result.query.ccdSeconds;
+  m_stats.ccdSeconds += seconds;
+  if (result.ground) {
+    m_stats.groundCcdSeconds += seconds;
+    ++m_stats.groundCcdQueries;
+  }
+  ++m_stats.ccdQueries;
+  m_stats.segmentQueries += result.query.ccd.stats.segmentQueries;
+  if (!result.hasRecord) return;
+  m_candidates.insert(m_candidates.end(), result.candidates.begin(), result.candidates.end());
+  m_candidateBounce.insert(m_candidateBounce.end(), result.bounce.begin(), result.bounce.end());
+  m_candidateDistance.insert(m_candidateDistance.end(), result.distance.begin(), result.distance.end());
+  m_records.push_back(result.record);
 }
 
 template void SdfccdContactSystem::collectSolverCandidates<GridField>(const Role&, const GridField&, double, bool);

@@ -92,6 +92,8 @@ namespace detail {
 class ConvexShapeCache;
 class DeferredQueries;
 class NarrowphasePool;
+struct ContactRecord;
+struct RoleResult;
 }  // namespace detail
 
 /// Receives one line of text: an unsupported pair's announcement (SdfccdContactSystem::setLogCallback).
@@ -267,7 +269,7 @@ class SdfccdContactSystem : public btActionInterface {
 
  private:
   struct BodyStep;
-  struct Record;
+  using Record = detail::ContactRecord;  // one role's step (contact_step.h)
   struct Role;
   /// A body's contact load of one step (per-area law): the stiffness and damping its contacts put on it.
   struct ContactLoad {
@@ -283,8 +285,8 @@ class SdfccdContactSystem : public btActionInterface {
   void applyPenaltyImpulses(const Record& record);
   /// Per-area law: scales a dynamic body's mass for the contact response by last step's contact load.
   void applyContactMass(BodyStep& step, double timeStep) const;
-  /// Per-area law: adds this role's stiffness and damping (m_scratch.coefficients) to its bodies' next load.
-  void addContactLoad(const Record& record, double roleScale);
+  /// Per-area law: adds this role's stiffness and damping (`coefficients`) to its bodies' next load.
+  void addContactLoad(const Record& record, double roleScale, const PairResponseCoefficients& coefficients);
   static ImpactBody impactBody(const BodyStep& body);
   /// The world's penalty settings with the two bodies' overrides (setBodyContact) combined.
   PenaltySettings combinedPenalty(const btCollisionObject* a, const btCollisionObject* b) const;
@@ -307,6 +309,16 @@ class SdfccdContactSystem : public btActionInterface {
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
+  /// Penalty mode, after a role's work (penalty_role.h, on the pool or here): statistics, manifold points, the
+  /// record, the impulses (serial: it touches Bullet).
+  void applyPenaltyRole(const detail::RoleResult& result, btManifoldResult* resultOut, bool closestPointsOnly);
+  /// Solver mode, after a role's work: statistics, the pair's candidates, the record.
+  void applySolverRole(const detail::RoleResult& result);
+  /// A pair whose roles the step's plan computed: applies them in role order, then (solver mode, `solverPair`
+  /// not null) writes its manifolds (sdfccd_parallel_step.cpp).
+  void applyPlannedPair(const btCollisionObjectWrapper* wrap0, const btCollisionObjectWrapper* wrap1,
+                        const btDispatcherInfo& dispatchInfo, btManifoldResult* resultOut,
+                        btPersistentManifold* manifold, SdfccdSolverPair* solverPair);
   /// Solver mode, one role: the CCD with the speculative margin, each listed point as a candidate at the step's
   /// start (appended to m_candidates; normals on the manifold's body 1). `shellIsManifoldBody0`: the shell
   /// belongs to the manifold's body 0.
@@ -315,10 +327,12 @@ class SdfccdContactSystem : public btActionInterface {
   /// The step's plan (sdfccd_parallel_step.cpp): the first processPair of a step runs every overlapping pair of
   /// ours in planning mode (queries queued, nothing else changed), then computes the queue on the pool.
   void planStep(const btDispatcherInfo& dispatchInfo);
-  /// One role's query result into `out`: planning mode queues `compute` (when the role may be deferred) and
-  /// returns false (the caller stops); otherwise takes the planned result or runs `compute` now (parallel_step.h).
+  /// The role's result from this step's parallel batch, or null (not planned, or in planning mode).
+  const detail::RoleResult* takePlanned(const Role& role, bool deferrableField);
+  /// One role's work: planning mode queues `compute` (when the role may be deferred) and returns null (the caller
+  /// stops); otherwise runs it now into m_roleScratch and returns that (parallel_step.h).
   template <class Compute>
-  bool obtainQuery(const Role& role, bool deferrableField, Compute& compute, ContactQueryResult& out);
+  const detail::RoleResult* runOrQueue(const Role& role, bool deferrableField, Compute& compute);
   /// Solver mode, the whole pair: reduction and the manifold points (solver_manifolds.cpp).
   void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
                             btPersistentManifold* primary, SdfccdSolverPair& pair);
@@ -336,23 +350,28 @@ class SdfccdContactSystem : public btActionInterface {
   std::vector<Record> m_records;
   // Per-area law: each dynamic body's contact load of the last step (read) and of this step (written).
   std::unordered_map<const btCollisionObject*, ContactLoad> m_contactLoads, m_nextContactLoads;
-  std::map<std::pair<const btPersistentManifold*, int>, std::unique_ptr<AnchorSlot>> m_anchorSlots;
+  struct SlotKeyHash {
+    std::size_t operator()(const std::pair<const btPersistentManifold*, int>& k) const {
+      return std::hash<const void*>()(k.first) ^ (static_cast<std::size_t>(k.second) * 0x9e3779b97f4a7c15ull);
+    }
+  };
+  // One lookup per role and step (an 80-body pile has ~2,000 slots): hashed, not ordered.
+  std::unordered_map<std::pair<const btPersistentManifold*, int>, std::unique_ptr<AnchorSlot>, SlotKeyHash>
+      m_anchorSlots;
   std::vector<SdfccdPairContact> m_lastContacts;
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
-  RigidCcdResult m_solverCcd;                  // solver mode: the speculative CCD's buffers
   std::vector<ContactCandidate> m_candidates;  // solver mode: the current pair's candidates (both roles)
   std::vector<double> m_candidateBounce;  // solver mode: per candidate, added to its restitution (solver_contacts.cpp)
   std::vector<double> m_candidateDistance;  // solver mode: per candidate, the distance Bullet's solver gets (m)
   double m_candidateMargin = 0.0;           // solver mode: the current pair's largest speculative margin (m)
   double m_solverTimeStep = 0.0;            // solver mode: the step of the current pair (s)
-  RigidCcdResult m_shadowScratch;
   // The parallel step (sdfccd_parallel_step.cpp): the planned queries, the pool, the world whose pairs are planned.
   std::unique_ptr<detail::DeferredQueries> m_deferred;
   std::unique_ptr<detail::NarrowphasePool> m_pool;
   btCollisionWorld* m_world = nullptr;
   bool m_planning = false;            // processPair runs to queue queries only
   std::int64_t m_plannedStep = -1;    // the m_stepCounter of the last plan
-  ContactQueryResult m_solverResult;  // solver mode: a planned query's result, swapped with m_solverCcd
+  std::unique_ptr<detail::RoleResult> m_roleScratch;  // a role computed on the stepping thread (keeps buffers)
   std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;
   double m_lastMaxPenetrationCells = 0.0;
