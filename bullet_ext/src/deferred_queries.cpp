@@ -15,24 +15,50 @@ void DeferredQueries::clear() {
   m_cursor = 0;
 }
 
-void DeferredQueries::add(const void* manifold, int role, Compute compute) {
+namespace {
+/// A streamed batch publishes its queries in groups of this many (one lock and wake-up per group).
+constexpr std::size_t kPublishGroup = 8;
+}  // namespace
+
+bool DeferredQueries::add(const void* manifold, int role, Compute compute) {
+  if (m_streaming != nullptr && m_jobs.size() >= m_capacity) return false;
   Job job;
   job.key = Key{manifold, role};
   job.compute = std::move(compute);
   m_jobs.push_back(std::move(job));
   if (m_results.size() < m_jobs.size()) m_results.resize(m_jobs.size());
   m_indexed = false;
+  if (m_streaming != nullptr && m_jobs.size() % kPublishGroup == 0) m_streaming->publish(m_jobs.size());
+  return true;
 }
 
-void DeferredQueries::runAll(NarrowphasePool& pool) {
-  pool.run(m_jobs.size(), [this](std::size_t i) {
+void DeferredQueries::begin(NarrowphasePool& pool, std::size_t capacity) {
+  // Reserved up front: workers read jobs and write results while add() appends.
+  m_jobs.reserve(capacity);
+  if (m_results.size() < capacity) m_results.resize(capacity);
+  m_capacity = capacity;
+  m_task = [this](std::size_t i) {
     try {
       m_jobs[i].compute(m_results[i]);
     } catch (...) {
       m_jobs[i].error = std::current_exception();  // an exception must not leave a worker thread
     }
     m_jobs[i].done = true;
-  });
+  };
+  m_streaming = &pool;
+  pool.begin(m_task);
+}
+
+void DeferredQueries::finish() {
+  if (m_streaming == nullptr) return;
+  NarrowphasePool& pool = *m_streaming;
+  m_streaming = nullptr;
+  pool.close(m_jobs.size());
+}
+
+void DeferredQueries::runAll(NarrowphasePool& pool) {
+  begin(pool, m_jobs.size());
+  finish();
 }
 
 std::ptrdiff_t DeferredQueries::find(const Key& key) {

@@ -77,11 +77,17 @@ class DeferredQueries {
 
   /// Forgets the last step's queries (keeps the result buffers).
   void clear();
-  /// Queues the query of (manifold, role); a key is planned once per step.
-  void add(const void* manifold, int role, Compute compute);
+  /// Queues the query of (manifold, role); a key is planned once per step. False when a streamed batch is full.
+  bool add(const void* manifold, int role, Compute compute);
   std::size_t size() const { return m_jobs.size(); }
   /// Computes every query on `pool`, each into its own result.
   void runAll(NarrowphasePool& pool);
+  /// A streamed batch: after begin(pool, capacity) every add() is computed on the pool as soon as it is queued
+  /// (published in small groups), while the caller goes on planning; finish() computes the rest and returns when
+  /// all are done. At most `capacity` queries are streamed (the buffers must not move while workers read them);
+  /// add() refuses more (false: the role is computed when Bullet reaches it). finish() must be called.
+  void begin(NarrowphasePool& pool, std::size_t capacity);
+  void finish();
   /// The result of (manifold, role), valid until the next clear(); null when there is none, or it was taken
   /// already. Rethrows what the query threw, where the serial narrowphase would have thrown it.
   const RoleResult* take(const void* manifold, int role);
@@ -107,6 +113,9 @@ class DeferredQueries {
     bool taken = false;
   };
   std::vector<Job> m_jobs;
+  NarrowphasePool* m_streaming = nullptr;  // the pool of an open streamed batch
+  std::size_t m_capacity = 0;
+  std::function<void(std::size_t)> m_task;  // the batch's task (outlives it)
   std::vector<RoleResult> m_results;  // m_results[i] belongs to m_jobs[i]; kept across steps (their buffers)
   /// The job of `key`, or -1. Bullet takes the pairs in the order the plan walked them (its pair array), so the
   /// job after the last one found is tried first; the hashed index is built only when that guess fails.

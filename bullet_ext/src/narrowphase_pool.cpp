@@ -33,12 +33,18 @@ void NarrowphasePool::stopWorkers() {
   m_workers.clear();
 }
 
-void NarrowphasePool::drain(const std::function<void(std::size_t)>& task, std::size_t count) {
+void NarrowphasePool::drain(const std::function<void(std::size_t)>& task) {
   for (;;) {
-    const std::size_t i = m_next.fetch_add(1);
-    if (i >= count) return;
+    std::size_t i = m_next.load();
+    if (i >= m_published.load()) {
+      if (m_closed.load() && i >= m_published.load()) return;  // closed: m_published is final
+      std::unique_lock<std::mutex> lock(m_mutex);
+      m_more.wait(lock, [&] { return m_closed.load() || m_published.load() > i || m_next.load() != i; });
+      continue;
+    }
+    if (!m_next.compare_exchange_weak(i, i + 1)) continue;  // another thread claimed it: try the next
     task(i);
-    if (m_finished.fetch_add(1) + 1 == count) {
+    if (m_finished.fetch_add(1) + 1 == m_published.load() && m_closed.load()) {
       const std::lock_guard<std::mutex> lock(m_mutex);  // the caller checks under the lock: no lost wake-up
       m_done.notify_all();
     }
@@ -55,13 +61,56 @@ void NarrowphasePool::workerLoop() {
     if (!m_accepting) continue;  // woke after its batch ended
     ++m_active;
     const std::function<void(std::size_t)>* task = m_task;
-    const std::size_t count = m_count;
     lock.unlock();
-    drain(*task, count);
+    drain(*task);
     lock.lock();
     --m_active;
     m_done.notify_all();
   }
+}
+
+void NarrowphasePool::begin(const std::function<void(std::size_t)>& task) {
+  const std::lock_guard<std::mutex> lock(m_mutex);
+  m_task = &task;
+  m_next = 0;
+  m_published = 0;
+  m_closed = false;
+  m_finished = 0;
+  if (m_workers.empty()) return;
+  m_accepting = true;
+  ++m_generation;
+  m_wake.notify_all();
+}
+
+void NarrowphasePool::publish(std::size_t count) {
+  if (m_workers.empty() || count <= m_published.load()) return;
+  {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    m_published = count;
+  }
+  m_more.notify_all();
+}
+
+void NarrowphasePool::close(std::size_t total) {
+  const std::function<void(std::size_t)>* task = m_task;
+  if (m_workers.empty()) {
+    for (std::size_t i = 0; i < total; ++i) (*task)(i);
+    m_task = nullptr;
+    return;
+  }
+  {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    m_published = total;
+    m_closed = true;
+  }
+  m_more.notify_all();
+  drain(*task);
+  std::unique_lock<std::mutex> lock(m_mutex);
+  m_done.wait(lock, [&] { return m_finished.load() == total; });
+  // Workers that joined may still be between their last claim and leaving: the batch (and `task`) outlives them.
+  m_accepting = false;
+  m_done.wait(lock, [&] { return m_active == 0; });
+  m_task = nullptr;
 }
 
 void NarrowphasePool::run(std::size_t count, const std::function<void(std::size_t)>& task) {
@@ -69,23 +118,8 @@ void NarrowphasePool::run(std::size_t count, const std::function<void(std::size_
     for (std::size_t i = 0; i < count; ++i) task(i);
     return;
   }
-  {
-    const std::lock_guard<std::mutex> lock(m_mutex);
-    m_task = &task;
-    m_count = count;
-    m_next = 0;
-    m_finished = 0;
-    m_accepting = true;
-    ++m_generation;
-  }
-  m_wake.notify_all();
-  drain(task, count);
-  std::unique_lock<std::mutex> lock(m_mutex);
-  m_done.wait(lock, [&] { return m_finished.load() == count; });
-  // Workers that joined may still be between their last claim and leaving: the batch (and `task`) outlives them.
-  m_accepting = false;
-  m_done.wait(lock, [&] { return m_active == 0; });
-  m_task = nullptr;
+  begin(task);
+  close(count);
 }
 
 }  // namespace sdfccd::detail

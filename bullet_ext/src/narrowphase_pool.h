@@ -11,6 +11,8 @@
 /// std::atomic, which TSan sees.
 /// The tasks must be independent: which thread runs which index is not fixed, so each task writes only its own
 /// output (results are then bit-identical for any thread count). One batch at a time (run() is not reentrant).
+/// A batch may also be streamed (begin, publish, close): the workers start on the first tasks while the caller
+/// still prepares the next ones (the step's planning pass, serial, overlaps the CCD of the pairs planned so far).
 #pragma once
 
 #include <atomic>
@@ -35,26 +37,34 @@ class NarrowphasePool {
   int threads() const { return m_threads; }
   /// Runs task(i) for i in [0, count), each index once, and returns when all are done.
   void run(std::size_t count, const std::function<void(std::size_t)>& task);
+  /// A streamed batch: begin(task) opens it (`task` must outlive it), publish(n) makes tasks [0, n) available
+  /// (n never decreases; the caller must have finished writing what they read), close(total) publishes the last
+  /// ones, runs tasks with the workers and returns when all `total` are done. With no workers, close runs them all.
+  void begin(const std::function<void(std::size_t)>& task);
+  void publish(std::size_t count);
+  void close(std::size_t total);
 
  private:
   void workerLoop();
   void stopWorkers();  ///< stops and joins every worker (the destructor, and a constructor that fails)
-  /// Claims and runs tasks of the current batch until none is left.
-  void drain(const std::function<void(std::size_t)>& task, std::size_t count);
+  /// Claims and runs published tasks of the current batch until it is closed and none is left.
+  void drain(const std::function<void(std::size_t)>& task);
 
   int m_threads = 1;
   std::vector<std::thread> m_workers;
   std::mutex m_mutex;
   std::condition_variable m_wake;  // workers: a new batch, or stop
   std::condition_variable m_done;  // the caller: a task or a worker finished
+  std::condition_variable m_more;  // workers inside a batch: tasks published, or the batch closed
   // The batch, under m_mutex (the counters are atomic: claimed and finished outside it).
   const std::function<void(std::size_t)>* m_task = nullptr;
-  std::size_t m_count = 0;
   std::uint64_t m_generation = 0;
   bool m_accepting = false;  // a worker that wakes after its batch ended must not join it
   int m_active = 0;          // workers inside the current batch
   bool m_stop = false;
-  std::atomic<std::size_t> m_next{0};
+  std::atomic<std::size_t> m_next{0};       // the next task to claim
+  std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
+  std::atomic<bool> m_closed{false};        // m_published is the batch's total
   std::atomic<std::size_t> m_finished{0};
 };
 

@@ -79,6 +79,17 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     ~PlanningScope() { planning = false; }
     bool& planning;
   };
+  if (!m_pool) m_pool = std::make_unique<detail::NarrowphasePool>(m_settings.threads);
+  // The batch streams: the pool computes the first pairs' queries while this thread plans the next ones. Each pair
+  // has at most two roles.
+  const auto start = std::chrono::steady_clock::now();
+  struct BatchScope {  // the batch is finished however the planning leaves (its workers must be done)
+    explicit BatchScope(detail::DeferredQueries& q) : queries(q) {}
+    ~BatchScope() { queries.finish(); }
+    detail::DeferredQueries& queries;
+  };
+  m_deferred->begin(*m_pool, 2 * static_cast<std::size_t>(pairs.size()));
+  const BatchScope batch(*m_deferred);
   std::optional<PlanningScope> scope(std::in_place, m_planning);
   for (int i = 0; i < pairs.size(); ++i) {
     auto* algorithm = dynamic_cast<SdfccdCollisionAlgorithm*>(pairs[i].m_algorithm);
@@ -96,10 +107,7 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     processPair(&wrap0, &wrap1, dispatchInfo, &unused, algorithm->manifold(), algorithm->solverPair(), false);
   }
   scope.reset();
-  if (m_deferred->size() == 0) return;
-  if (!m_pool) m_pool = std::make_unique<detail::NarrowphasePool>(m_settings.threads);
-  const auto start = std::chrono::steady_clock::now();
-  m_deferred->runAll(*m_pool);
+  m_deferred->finish();
   m_stats.parallelWallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
