@@ -89,6 +89,7 @@ struct SdfccdContactSystem::AnchorSlot {
   const btCollisionObject* shellObject = nullptr;  // a reused manifold with other objects starts afresh
   const btCollisionObject* fieldObject = nullptr;
   std::int64_t lastStep = -1;  // dropped when a step passes without its pair
+  std::size_t order = 0;       // its index in the walk of step lastStep (SdfccdContactSystem::anchorSlot)
 };
 
 }  // namespace sdfccd

@@ -2,13 +2,22 @@
 /// @brief DeferredQueries (see deferred_queries.h).
 #include "deferred_queries.h"
 
+#include <atomic>
 #include <utility>
 
 #include "narrowphase_pool.h"
 
 namespace sdfccd::detail {
 
+std::size_t DeferredQueries::nextArenaIndex() {
+  static std::atomic<std::size_t> next{0};
+  return next.fetch_add(1);
+}
+
 void DeferredQueries::clear() {
+  for (const std::unique_ptr<ArenaBase>& arena : m_arenas) {
+    if (arena) arena->used = 0;
+  }
   m_jobs.clear();
   m_index.clear();
   m_indexed = false;

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <type_traits>
 #include <unordered_map>
 #include <vector>
@@ -72,6 +73,25 @@ struct RoleResult {
 
 class DeferredQueries {
  public:
+  DeferredQueries() = default;
+  DeferredQueries(const DeferredQueries&) = delete;
+  DeferredQueries& operator=(const DeferredQueries&) = delete;
+
+  /// A copy of `data` kept until the next clear(), at an address that does not change meanwhile: a queued
+  /// closure holds a pointer to it instead of a copy of its inputs, so queueing allocates nothing (a closure of
+  /// more than two pointers is copied to the heap by std::function; a role's inputs are about 1.3 KB). The copies'
+  /// storage is reused from step to step.
+  template <class Data>
+  const Data& stash(const Data& data) {
+    Arena<Data>& arena = arenaOf<Data>();
+    if (arena.used == arena.items.size()) {
+      arena.items.push_back(std::make_unique<Data>(data));
+    } else {
+      *arena.items[arena.used] = data;
+    }
+    return *arena.items[arena.used++];
+  }
+
   /// Writes one role's work (penalty_role.h; solver mode: solver_contacts.cpp).
   using Compute = std::function<void(RoleResult&)>;
 
@@ -112,6 +132,24 @@ class DeferredQueries {
     bool done = false;
     bool taken = false;
   };
+  struct ArenaBase {
+    virtual ~ArenaBase() = default;
+    std::size_t used = 0;
+  };
+  template <class Data>
+  struct Arena : ArenaBase {
+    std::vector<std::unique_ptr<Data>> items;  // the Data never move; only their pointers do
+  };
+  /// A process-wide index per stashed type.
+  static std::size_t nextArenaIndex();
+  template <class Data>
+  Arena<Data>& arenaOf() {
+    static const std::size_t index = nextArenaIndex();
+    if (m_arenas.size() <= index) m_arenas.resize(index + 1);
+    if (!m_arenas[index]) m_arenas[index] = std::make_unique<Arena<Data>>();
+    return static_cast<Arena<Data>&>(*m_arenas[index]);
+  }
+  std::vector<std::unique_ptr<ArenaBase>> m_arenas;
   std::vector<Job> m_jobs;
   NarrowphasePool* m_streaming = nullptr;  // the pool of an open streamed batch
   std::size_t m_capacity = 0;

@@ -1,9 +1,10 @@
 /// @file
-/// @brief SdfccdContactSystem::runOrQueue, shared by penalty mode (sdfccd_contact_system.cpp) and solver mode
+/// @brief SdfccdContactSystem::takePlanned and runOrQueue, shared by penalty mode (sdfccd_contact_system.cpp) and solver mode
 /// (solver_contacts.cpp): where one role's work runs in a planned step (sdfccd_parallel_step.cpp).
 #pragma once
 
 #include <memory>
+#include <type_traits>
 
 #include "contact_step.h"
 #include "deferred_queries.h"
@@ -17,16 +18,20 @@ inline const detail::RoleResult* SdfccdContactSystem::takePlanned(const Role& ro
   return planned;
 }
 
-template <class Compute>
-const detail::RoleResult* SdfccdContactSystem::runOrQueue(const Role& role, bool deferrableField, Compute& compute) {
-  const bool deferrable = deferrableField && role.deferrable;
+template <class Input, class Run>
+const detail::RoleResult* SdfccdContactSystem::runOrQueue(const Role& role, bool deferrableField, const Input& input,
+                                                         Run run) {
+  static_assert(std::is_empty_v<Run>, "runOrQueue: `run` must capture nothing (its inputs are in `input`)");
   if (m_planning) {
-    // The closure is copied: it holds its inputs by value (deferred_queries.h).
-    if (deferrable) m_deferred->add(role.manifold, role.index, detail::DeferredQueries::Compute(compute));
+    if (deferrableField && role.deferrable) {
+      // The inputs are stashed for the step (deferred_queries.h): the closure holds a pointer, no copy.
+      const Input& kept = m_deferred->stash(input);
+      m_deferred->add(role.manifold, role.index, [&kept, run](detail::RoleResult& out) { run(kept, out); });
+    }
     return nullptr;
   }
   if (!m_roleScratch) m_roleScratch = std::make_unique<detail::RoleResult>();
-  compute(*m_roleScratch);
+  run(input, *m_roleScratch);
   return m_roleScratch.get();
 }
 

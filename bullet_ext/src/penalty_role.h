@@ -49,6 +49,14 @@ struct PenaltyRoleInput {
   bool ground = false;
 };
 
+/// A penalty role's work as queued: the shell's tree, the field (HeldField: by address or by value), the inputs.
+template <class Field>
+struct PenaltyRoleJob {
+  const PointTree* tree;
+  HeldField<Field> field;
+  PenaltyRoleInput input;
+};
+
 /// The role's work into `out` (see the file comment).
 template <class Field>
 void computePenaltyRole(const PointTree& tree, const Field& field, const PenaltyRoleInput& in, RoleResult& out) {

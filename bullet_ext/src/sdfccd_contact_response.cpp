@@ -13,6 +13,10 @@
 #include "sdfccd/response/time_of_impact_clamp.h"
 
 namespace sdfccd {
+namespace {
+/// Steps between two walks over the anchor slots that drop the stale ones.
+constexpr std::int64_t kSlotEvictionPeriod = 64;
+}  // namespace
 
 using detail::interpolatePose;
 using detail::kImpactIterations;
@@ -176,12 +180,23 @@ void SdfccdContactSystem::updateAction(btCollisionWorld*, btScalar) {
     m_lastMaxPenetrationCells = std::max(m_lastMaxPenetrationCells, r.maxPenetrationCells);
   }
   m_stats.maxPenetrationCells = std::max(m_stats.maxPenetrationCells, m_lastMaxPenetrationCells);
-  for (auto it = m_anchorSlots.begin(); it != m_anchorSlots.end();) {
-    it = it->second->lastStep + 1 < m_stepCounter ? m_anchorSlots.erase(it) : std::next(it);
+  // This step's walk of the slots guides the next step's lookups (anchorSlot).
+  m_lastSlotOrder.swap(m_slotOrder);
+  m_slotOrder.clear();
+  m_slotCursor = 0;
+  // Slots whose pair was not processed last step are dropped now and then: one that comes back first resets
+  // (anchorSlot), so when they go changes no result, and walking every slot each step costs as much as a query.
+  if (m_stepCounter % kSlotEvictionPeriod == 0) {
+    for (auto it = m_anchorSlots.begin(); it != m_anchorSlots.end();) {
+      it = it->second->lastStep + 1 < m_stepCounter ? m_anchorSlots.erase(it) : std::next(it);
+    }
   }
   m_records.clear();
+  // The entries stay (zeroed), so next step adds to them without allocating; a body with a zero load gets its own
+  // mass (applyContactMass), as one without an entry.
   m_contactLoads.swap(m_nextContactLoads);
-  m_nextContactLoads.clear();
+  if (m_nextContactLoads.size() > 2 * m_bodies.size() + 256) m_nextContactLoads.clear();  // bodies come and go
+  for (auto& entry : m_nextContactLoads) entry.second = ContactLoad{};
   m_bodies.clear();
   m_bodyIndex.clear();
 }

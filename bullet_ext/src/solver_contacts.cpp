@@ -133,6 +133,14 @@ struct SolverRoleInput {
   bool ground = false;  // passed on to the result (RoleResult)
 };
 
+/// A solver role's work as queued: the shell's tree, the field (HeldField), the inputs.
+template <class Field>
+struct SolverRoleJob {
+  const PointTree* tree;
+  detail::HeldField<Field> field;
+  SolverRoleInput input;
+};
+
 /// Solver mode, one role's work that touches no Bullet object: the CCD with the speculative margin and each
 /// listed point as a candidate at the step's start (normals on the manifold's body 1), into `out`.
 template <class Field>
@@ -291,10 +299,11 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
   in.ccd.threads = 1;
   in.coherence = role.coherence;
   // The work holds copies of its inputs: it may run later, on the pool (runOrQueue, parallel_step.h).
-  auto compute = [tree = role.shellTree, held = detail::HeldField<Field>(field), in](detail::RoleResult& out) {
-    computeSolverRole(*tree, held.get(), in, out);
+  const SolverRoleJob<Field> job{role.shellTree, detail::HeldField<Field>(field), in};
+  const auto run = [](const SolverRoleJob<Field>& j, detail::RoleResult& out) {
+    computeSolverRole(*j.tree, j.field.get(), j.input, out);
   };
-  if (const detail::RoleResult* result = runOrQueue(role, detail::kDeferrableField<Field>, compute)) {
+  if (const detail::RoleResult* result = runOrQueue(role, detail::kDeferrableField<Field>, job, run)) {
     applySolverRole(*result);
   }
 }

@@ -329,10 +329,10 @@ class SdfccdContactSystem : public btActionInterface {
   void planStep(const btDispatcherInfo& dispatchInfo);
   /// The role's result from this step's parallel batch, or null (not planned, or in planning mode).
   const detail::RoleResult* takePlanned(const Role& role, bool deferrableField);
-  /// One role's work: planning mode queues `compute` (when the role may be deferred) and returns null (the caller
-  /// stops); otherwise runs it now into m_roleScratch and returns that (parallel_step.h).
-  template <class Compute>
-  const detail::RoleResult* runOrQueue(const Role& role, bool deferrableField, Compute& compute);
+  /// One role's work, run(input, result): planning mode queues it (when the role may be deferred) and returns
+  /// null (the caller stops); otherwise runs it now into m_roleScratch and returns that (parallel_step.h).
+  template <class Input, class Run>
+  const detail::RoleResult* runOrQueue(const Role& role, bool deferrableField, const Input& input, Run run);
   /// Solver mode, the whole pair: reduction and the manifold points (solver_manifolds.cpp).
   void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
                             btPersistentManifold* primary, SdfccdSolverPair& pair);
@@ -350,14 +350,16 @@ class SdfccdContactSystem : public btActionInterface {
   std::vector<Record> m_records;
   // Per-area law: each dynamic body's contact load of the last step (read) and of this step (written).
   std::unordered_map<const btCollisionObject*, ContactLoad> m_contactLoads, m_nextContactLoads;
+  using SlotKey = std::pair<const btPersistentManifold*, int>;
   struct SlotKeyHash {
-    std::size_t operator()(const std::pair<const btPersistentManifold*, int>& k) const {
+    std::size_t operator()(const SlotKey& k) const {
       return std::hash<const void*>()(k.first) ^ (static_cast<std::size_t>(k.second) * 0x9e3779b97f4a7c15ull);
     }
   };
-  // One lookup per role and step (an 80-body pile has ~2,000 slots): hashed, not ordered.
-  std::unordered_map<std::pair<const btPersistentManifold*, int>, std::unique_ptr<AnchorSlot>, SlotKeyHash>
-      m_anchorSlots;
+  // The slots (an 80-body pile has ~2,000), and the order in which this and the last step's walk met them.
+  std::unordered_map<SlotKey, std::unique_ptr<AnchorSlot>, SlotKeyHash> m_anchorSlots;
+  std::vector<std::pair<SlotKey, AnchorSlot*>> m_slotOrder, m_lastSlotOrder;
+  std::size_t m_slotCursor = 0;
   std::vector<SdfccdPairContact> m_lastContacts;
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
   std::vector<ContactCandidate> m_candidates;  // solver mode: the current pair's candidates (both roles)
