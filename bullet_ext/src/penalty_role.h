@@ -27,6 +27,10 @@ inline double steadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+/// The clock of the CCD statistics: the thread's CPU time while the point-by-point repeat is timed beside the tree
+/// (shadowLinearEvery, paper Table 4: both on the same clock), else the steady clock.
+inline double (*ccdClock(bool cpuTime))() { return cpuTime ? &threadCpuSeconds : &steadySeconds; }
+
 /// What a penalty role's work reads, by value (it may run later, on the pool).
 struct PenaltyRoleInput {
   ShellMotion shellMotion;
@@ -45,6 +49,7 @@ struct PenaltyRoleInput {
   bool shellKinematic = false;
   bool fieldKinematic = false;
   bool shadowLinear = false;       // repeat the CCD point by point, timed (shadowLinearEvery)
+  bool cpuClock = false;           // time the CCD on the thread's CPU clock (ccdClock)
   double roleScale = 1.0;          // passed on to the result (RoleResult)
   bool ground = false;
 };
@@ -61,7 +66,7 @@ struct PenaltyRoleJob {
 template <class Field>
 void computePenaltyRole(const PointTree& tree, const Field& field, const PenaltyRoleInput& in, RoleResult& out) {
   ContactQueryClocks clocks;
-  clocks.ccd = &steadySeconds;
+  clocks.ccd = ccdClock(in.cpuClock);
   clocks.penalty = &steadySeconds;
   queryContacts(tree, field, in.shellMotion, in.fieldMotion, in.timeStep, in.query, out.query, clocks);
   out.roleScale = in.roleScale;

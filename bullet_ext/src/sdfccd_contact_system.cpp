@@ -354,6 +354,7 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
   in.fieldKinematic = fieldBody.kinematic;
   in.shadowLinear = !closestPointsOnly && m_settings.shadowLinearEvery > 0 &&
                     m_stepCounter % m_settings.shadowLinearEvery == 0 && !ground;
+  in.cpuClock = m_settings.shadowLinearEvery > 0;
   in.roleScale = role.roleScale;
   in.ground = ground;
   // The work holds copies of its inputs: it may run later, on the pool (runOrQueue, parallel_step.h).

@@ -79,18 +79,10 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     ~PlanningScope() { planning = false; }
     bool& planning;
   };
-  if (!m_pool) m_pool = std::make_unique<detail::NarrowphasePool>(m_settings.threads);
-  // The batch streams: the pool computes the first pairs' queries while this thread plans the next ones. Each pair
-  // has at most two roles.
-  const auto start = std::chrono::steady_clock::now();
-  struct BatchScope {  // the batch is finished however the planning leaves (its workers must be done)
-    explicit BatchScope(detail::DeferredQueries& q) : queries(q) {}
-    ~BatchScope() { queries.finish(); }
-    detail::DeferredQueries& queries;
-  };
-  m_deferred->begin(*m_pool, 2 * static_cast<std::size_t>(pairs.size()));
-  const BatchScope batch(*m_deferred);
-  std::optional<PlanningScope> scope(std::in_place, m_planning);
+  // The pairs to plan: each of our contact algorithms whose pair Bullet will process and whose roles may all be
+  // planned. Collected first: the batch's buffers are sized for them (two roles each) before the workers start.
+  std::vector<int>& planned = m_plannedPairs;
+  planned.clear();
   for (int i = 0; i < pairs.size(); ++i) {
     auto* algorithm = dynamic_cast<SdfccdCollisionAlgorithm*>(pairs[i].m_algorithm);
     if (algorithm == nullptr || !algorithm->plannable(this)) continue;
@@ -98,6 +90,24 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     auto* object1 = static_cast<btCollisionObject*>(pairs[i].m_pProxy1->m_clientObject);
     if (!dispatcher->needsCollision(object0, object1)) continue;
     if (!plannablePair(object0->getCollisionShape(), object1->getCollisionShape())) continue;
+    planned.push_back(i);
+  }
+  if (planned.empty()) return;
+  if (!m_pool) m_pool = std::make_unique<detail::NarrowphasePool>(m_settings.threads);
+  // The batch streams: the pool computes the first pairs' queries while this thread plans the next ones.
+  const auto start = std::chrono::steady_clock::now();
+  struct BatchScope {  // the batch is finished however the planning leaves (its workers must be done)
+    explicit BatchScope(detail::DeferredQueries& q) : queries(q) {}
+    ~BatchScope() { queries.finish(); }
+    detail::DeferredQueries& queries;
+  };
+  m_deferred->begin(*m_pool, 2 * planned.size());
+  const BatchScope batch(*m_deferred);
+  std::optional<PlanningScope> scope(std::in_place, m_planning);
+  for (const int i : planned) {
+    auto* algorithm = static_cast<SdfccdCollisionAlgorithm*>(pairs[i].m_algorithm);
+    auto* object0 = static_cast<btCollisionObject*>(pairs[i].m_pProxy0->m_clientObject);
+    auto* object1 = static_cast<btCollisionObject*>(pairs[i].m_pProxy1->m_clientObject);
     // The wrappers defaultNearCallback builds for the same pair.
     const btCollisionObjectWrapper wrap0(nullptr, object0->getCollisionShape(), object0, object0->getWorldTransform(),
                                          -1, -1);

@@ -130,7 +130,8 @@ struct SolverRoleInput {
   std::size_t shell = 0;                   // body indices, for the record
   std::size_t field = 0;
   bool shellIsManifoldBody0 = true;
-  bool ground = false;  // passed on to the result (RoleResult)
+  bool ground = false;    // passed on to the result (RoleResult)
+  bool cpuClock = false;  // time the CCD on the thread's CPU clock (detail::ccdClock)
 };
 
 /// A solver role's work as queued: the shell's tree, the field (HeldField), the inputs.
@@ -157,13 +158,14 @@ void computeSolverRole(const PointTree& tree, const Field& field, const SolverRo
   // certificates answer alone (no contact possible) is not timed (contact_query.h, Timing).
   if (!(in.coherence && rigidCcdCertifiedClear(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd,
                                                 *in.coherence, query.ccd))) {
-    const double start = detail::steadySeconds();
+    double (*const clock)() = detail::ccdClock(in.cpuClock);
+    const double start = clock();
     if (in.coherence) {
       rigidCcd(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd, *in.coherence, query.ccd);
     } else {
       rigidCcd(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd, query.ccd);
     }
-    query.ccdSeconds = detail::steadySeconds() - start;
+    query.ccdSeconds = clock() - start;
   }
   if (query.ccd.contacts.empty()) return;
 
@@ -292,6 +294,7 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
   in.field = role.field;
   in.shellIsManifoldBody0 = shellIsManifoldBody0;
   in.ground = std::is_same_v<Field, PlaneField>;
+  in.cpuClock = m_settings.shadowLinearEvery > 0;
   in.ccd.sigma = in.margin;
   in.ccd.mode = CcdMode::FirstHit;
   in.ccd.octree = m_settings.octree;

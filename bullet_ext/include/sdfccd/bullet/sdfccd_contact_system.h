@@ -173,7 +173,11 @@ struct SdfccdPairContact {
 
 /// Counters, cumulative since construction.
 struct SdfccdContactStatistics {
-  double ccdSeconds = 0.0;  ///< thread CPU time of rigid CCD queries (s), all fields, on whichever thread ran them
+  /// Time of the rigid CCD queries (s), all fields, summed over the threads that ran them: steady-clock time
+  /// (a thread CPU clock read is a system call, dearer than most queries a pile's certificates answer), or thread
+  /// CPU time while shadowLinearEvery > 0 times the point-by-point repeat beside it (paper Table 4). A query the CCD
+  /// history answers with no traversal is not timed.
+  double ccdSeconds = 0.0;
   double groundCcdSeconds = 0.0;      ///< the part of ccdSeconds spent against static planes (s)
   double shadowLinearSeconds = 0.0;   ///< point-by-point repeats (shadowLinearEvery), between bodies only (s)
   std::int64_t shadowSteps = 0;       ///< steps in which the repeats ran
@@ -372,6 +376,7 @@ class SdfccdContactSystem : public btActionInterface {
   std::unique_ptr<detail::NarrowphasePool> m_pool;
   btCollisionWorld* m_world = nullptr;
   bool m_planning = false;            // processPair runs to queue queries only
+  std::vector<int> m_plannedPairs;    // the step's planned pairs (indices into the overlapping pair array)
   std::int64_t m_plannedStep = -1;    // the m_stepCounter of the last plan
   std::unique_ptr<detail::RoleResult> m_roleScratch;  // a role computed on the stepping thread (keeps buffers)
   std::int64_t m_stepCounter = 0;
