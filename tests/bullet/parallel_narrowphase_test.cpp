@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -170,6 +171,62 @@ TEST(DeferredQueries, ResultsTakenOnceAndErrorsRethrown) {
   EXPECT_THROW(queries.take(&manifolds[1], 0), std::runtime_error);
   queries.clear();
   EXPECT_EQ(queries.size(), 0u);
+}
+
+// A streamed batch: tasks published in groups while the caller goes on writing the next ones' inputs; every task
+// runs once and reads what was written before it was published (TSan checks the hand-over in the CI).
+TEST(NarrowphasePool, StreamedBatchRunsEveryPublishedTaskOnceAfterItsInput) {
+  for (int threads : {1, 2, 4}) {
+    detail::NarrowphasePool pool(threads);
+    for (int batch = 0; batch < 50; ++batch) {
+      const std::size_t total = static_cast<std::size_t>(37 * batch % 101);
+      std::vector<std::size_t> input(total, 0);
+      std::vector<std::atomic<int>> runs(total);
+      std::vector<std::size_t> output(total, 0);
+      const std::function<void(std::size_t)> task = [&](std::size_t i) {
+        runs[i].fetch_add(1);
+        output[i] = 3 * input[i];
+      };
+      pool.begin(task);
+      for (std::size_t i = 0; i < total; ++i) {
+        input[i] = i + 1;  // written before the task is published
+        if ((i + 1) % 5 == 0) pool.publish(i + 1);
+      }
+      pool.close(total);
+      for (std::size_t i = 0; i < total; ++i) {
+        ASSERT_EQ(runs[i].load(), 1) << threads << " threads, batch " << batch << ", task " << i;
+        ASSERT_EQ(output[i], 3 * (i + 1)) << threads << " threads, batch " << batch << ", task " << i;
+      }
+    }
+  }
+}
+
+// A streamed DeferredQueries batch computes what was added, refuses more than its capacity (the role is then
+// computed when Bullet reaches it), and keeps stashed inputs for the step.
+TEST(DeferredQueries, StreamedBatchHonoursItsCapacityAndKeepsStashedInputs) {
+  detail::NarrowphasePool pool(2);
+  detail::DeferredQueries queries;
+  int manifolds[12];
+  for (int step = 0; step < 3; ++step) {
+    queries.clear();
+    queries.begin(pool, 10);
+    for (int m = 0; m < 12; ++m) {
+      const double& kept = queries.stash(double(100 * step + m));
+      const bool added =
+          queries.add(&manifolds[m], 0, [&kept](detail::RoleResult& out) { out.query.ccdSeconds = kept; });
+      EXPECT_EQ(added, m < 10) << "query " << m;
+    }
+    queries.finish();
+    for (int m = 0; m < 12; ++m) {
+      const detail::RoleResult* result = queries.take(&manifolds[m], 0);
+      if (m >= 10) {
+        EXPECT_EQ(result, nullptr);
+        continue;
+      }
+      ASSERT_NE(result, nullptr);
+      EXPECT_EQ(result->query.ccdSeconds, double(100 * step + m));
+    }
+  }
 }
 
 // The convex cache serves a shape by its address while it is unchanged, builds anew when it changes, and drops
