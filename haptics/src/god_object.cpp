@@ -34,7 +34,13 @@ GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rig
   initialize(worldFromGodStart);
   if (settings.clearanceCache) {
     m_bounds = fieldCullingBounds(field);
-    if constexpr (std::is_same_v<Field, GridField>) m_local = LocalLipschitzBounds(field.grid());
+    if constexpr (std::is_same_v<Field, GridField>) {
+      m_local = LocalLipschitzBounds(field.grid());
+      if (settings.axisCertificates) {
+        m_axisBounds = sharedAxisLipschitzBounds(field);
+        m_axisRecords.assign(m_skip.size(), AxisRecord{});
+      }
+    }
   }
 }
 
@@ -250,9 +256,16 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
   const double stepRotation = Eigen::AngleAxisd(end.linear() * start.linear().transpose()).angle();
   const double translationBefore = m_travelTranslation;
   const double rotationBefore = m_travelRotation;
+  const Vec3 axisBefore = m_travelAxis;
   // Slack against rounding in the accumulated sums.
   m_travelTranslation += stepTranslation * tolerance::kBoundGrowth;
   m_travelRotation += stepRotation * tolerance::kBoundGrowth;
+  // Rounded up: the axis certificates compare differences of these sums (whose own rounding kBoundGrowth covers).
+  constexpr double up = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+    m_travelAxis[a] = std::nextafter(
+        m_travelAxis[a] + std::abs(end.translation()[a] - start.translation()[a]) * tolerance::kBoundGrowth, up);
+  m_travelRotation = std::nextafter(m_travelRotation, up);
   const double travelT = m_travelTranslation;
   const double travelR = m_travelRotation;
   const double lipschitz = m_bounds.lipschitz * tolerance::kBoundGrowth;
@@ -262,6 +275,10 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
   for (std::size_t p = 0; p < n; ++p) {
     const double radius = static_cast<double>(m_pointRadius[p]);
     if (static_cast<double>(m_clearanceBudget[p]) > travelT + travelR * radius) {
+      m_skip[p] = 1;
+      continue;
+    }
+    if (m_axisBounds && axisRecordHolds(m_axisRecords[p], radius)) {
       m_skip[p] = 1;
       continue;
     }
@@ -287,11 +304,35 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
       if (static_cast<double>(f) > budget) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
       m_clearanceBudget[p] = f;
       m_skip[p] = static_cast<double>(f) > travelT + travelR * radius;
+      if (m_axisBounds) {
+        AxisRecord& record = m_axisRecords[p];
+        record.block = m_axisBounds->blockOf(pointInSdf);  // -1 outside the box: no axis certificate
+        float c = static_cast<float>(clearance);
+        if (static_cast<double>(c) > clearance) c = std::nextafter(c, -std::numeric_limits<float>::infinity());
+        record.clearance = c;
+        record.travelAxis = axisBefore;
+        record.travelRotation = rotationBefore;
+        if (!m_skip[p]) m_skip[p] = axisRecordHolds(record, radius);
+      }
     }
   }
   if (ignoreContacts)
     for (const GodObjectContact& c : m_contacts)
       if (c.obstacle < 0) m_skip[static_cast<std::size_t>(c.point)] = 1;
+}
+
+// The axis certificate of one point (see @details): phi along the straight path from the evaluation point to any
+// position of this move dropped by at most sum_a G_a dT_a + |G| dR radius, valid while the path is within reach.
+template <class Field>
+bool GodObject<Field>::axisRecordHolds(const AxisRecord& record, double radius) const {
+  if (record.block < 0 || !(record.clearance > 0.0f)) return false;
+  const Vec3 dT = m_travelAxis - record.travelAxis;
+  const double dR = (m_travelRotation - record.travelRotation) * radius;
+  if (!((dT.sum() + dR) * tolerance::kBoundGrowth < m_axisBounds->reach())) return false;
+  const AxisLipschitzBounds::Block& g = m_axisBounds->block(record.block);
+  const double drop = static_cast<double>(g.x) * dT.x() + static_cast<double>(g.y) * dT.y() +
+                      static_cast<double>(g.z) * dT.z() + static_cast<double>(g.norm) * dR;
+  return drop * tolerance::kBoundGrowth < static_cast<double>(record.clearance);
 }
 
 // The discrete variant: every point near the surface at the new pose.

@@ -55,6 +55,14 @@
 /// every side point within 0.07 voxel of the wall) re-queries every point near the wall every cycle although the
 /// god-object barely moves.
 ///
+/// Grid fields also split the travel per axis of the field (axis_lipschitz_bounds.h): a point's evaluation records
+/// its clearance, its block of per-axis gradient bounds G and the travel sums then, per axis T_a (sum over cycles of
+/// |translation of the centre along a|) and R (sum of rotation angles). Its position then moved by d with
+/// |d_a| <= dT_a + |rotation part|_a, so phi changed by at most sum_a G_a dT_a + |G| dR |point - centre| along the
+/// straight path, which stays within the block's reach while sum_a dT_a + dR |point - centre| does. A point whose
+/// scalar budget ran out is kept skipped while that bound stays below its clearance: sliding along an axis-aligned
+/// wall (G along it ~0: the peg in its hole) no longer uses the clearance up.
+///
 /// Several obstacles (the ObstacleContacts constructor, haptic_obstacles.h): steps 5 and 6 (and the discrete variant's
 /// candidates) gather from every obstacle's pair instead of the one field, the rows in the same form; a cycle whose
 /// time (setObstacleTime) moved an obstacle starts with its push. The clearance cache is the one field's and is off.
@@ -65,8 +73,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "sdfccd/ccd/axis_lipschitz_bounds.h"
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/field/field_culling_bounds.h"
 #include "sdfccd/haptics/contact_qp.h"
@@ -97,6 +107,7 @@ struct GodObjectSettings {
   double depthCorrection = 1.0;                 ///< gain of the outward bias for contacts below sigma (0: off)
   bool continuous = true;                       ///< false: the discrete-collision variant (Fig. 11)
   bool clearanceCache = true;                   ///< skip points that provably cannot reach sigma (see @details)
+  bool axisCertificates = true;                 ///< grid fields: the cache also splits the travel per axis
   OctreeMode octree = OctreeMode::Leaves;       ///< cell skipping at haptic rates (Section 4.1: leaves)
   CcdMethod ccdMethod = CcdMethod::Exact;
   int threads = 1;       ///< CCD worker threads
@@ -199,6 +210,19 @@ class GodObject {
   std::vector<float> m_pointRadius;      // |point - centre|, rounded up
   double m_travelTranslation = 0.0;      // sum of |centre translation| over the moves (model units)
   double m_travelRotation = 0.0;         // sum of rotation angles over the moves (rad)
+  // The clearance cache's axis certificates (grid fields; see @details): per point whose last evaluation was in
+  // the field's box, its clearance, block and the travel sums then.
+  struct AxisRecord {
+    Vec3 travelAxis = Vec3::Zero();  // m_travelAxis at the evaluation (model units)
+    double travelRotation = 0.0;     // m_travelRotation at the evaluation (rad)
+    float clearance = 0.0f;          // phi - sigma less the rounding slack, rounded down (model units)
+    int block = -1;                  // the AxisLipschitzBounds block of the evaluation point (-1: no record)
+  };
+  /// Does point p's axis record rule out reaching sigma after the travel so far (radius: |point - centre|)?
+  bool axisRecordHolds(const AxisRecord& record, double radius) const;
+  std::shared_ptr<const AxisLipschitzBounds> m_axisBounds;  // grid fields with the clearance cache
+  std::vector<AxisRecord> m_axisRecords;
+  Vec3 m_travelAxis = Vec3::Zero();  // per field axis, sum of |centre translation along it| over the moves
 };
 
 }  // namespace sdfccd::haptics
