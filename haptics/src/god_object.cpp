@@ -16,6 +16,13 @@
 namespace sdfccd::haptics {
 
 namespace {
+/// `v` rounded down to a float.
+float roundedDown(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
 // Normals within this angle (rad) form one contact patch for the friction solve (reduceContactPatches): a flat
 // face of a grid field has gradients equal to about this; the error it admits is of that relative size.
 constexpr double kPatchAngle = 1e-6;
@@ -38,6 +45,7 @@ GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rig
       m_local = LocalLipschitzBounds(field.grid());
       if (settings.axisCertificates) {
         m_axisBounds = sharedAxisLipschitzBounds(field);
+        m_axisReach = m_axisBounds->reach();
         m_axisRecords.assign(m_skip.size(), AxisRecord{});
       }
     }
@@ -306,12 +314,16 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
       m_skip[p] = static_cast<double>(f) > travelT + travelR * radius;
       if (m_axisBounds) {
         AxisRecord& record = m_axisRecords[p];
-        record.block = m_axisBounds->blockOf(pointInSdf);  // -1 outside the box: no axis certificate
-        float c = static_cast<float>(clearance);
-        if (static_cast<double>(c) > clearance) c = std::nextafter(c, -std::numeric_limits<float>::infinity());
-        record.clearance = c;
-        record.travelAxis = axisBefore;
-        record.travelRotation = rotationBefore;
+        const int block = m_axisBounds->blockOf(pointInSdf);  // -1 outside the box: no axis certificate
+        record.clearance = block < 0 ? -1.0f : roundedDown(clearance);
+        if (block >= 0) {
+          const AxisLipschitzBounds::Block& g = m_axisBounds->block(block);
+          record.gx = g.x, record.gy = g.y, record.gz = g.z, record.gNorm = g.norm;
+          record.travelX = roundedDown(axisBefore.x());
+          record.travelY = roundedDown(axisBefore.y());
+          record.travelZ = roundedDown(axisBefore.z());
+          record.travelRotation = roundedDown(rotationBefore);
+        }
         if (!m_skip[p]) m_skip[p] = axisRecordHolds(record, radius);
       }
     }
@@ -319,20 +331,6 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
   if (ignoreContacts)
     for (const GodObjectContact& c : m_contacts)
       if (c.obstacle < 0) m_skip[static_cast<std::size_t>(c.point)] = 1;
-}
-
-// The axis certificate of one point (see @details): phi along the straight path from the evaluation point to any
-// position of this move dropped by at most sum_a G_a dT_a + |G| dR radius, valid while the path is within reach.
-template <class Field>
-bool GodObject<Field>::axisRecordHolds(const AxisRecord& record, double radius) const {
-  if (record.block < 0 || !(record.clearance > 0.0f)) return false;
-  const Vec3 dT = m_travelAxis - record.travelAxis;
-  const double dR = (m_travelRotation - record.travelRotation) * radius;
-  if (!((dT.sum() + dR) * tolerance::kBoundGrowth < m_axisBounds->reach())) return false;
-  const AxisLipschitzBounds::Block& g = m_axisBounds->block(record.block);
-  const double drop = static_cast<double>(g.x) * dT.x() + static_cast<double>(g.y) * dT.y() +
-                      static_cast<double>(g.z) * dT.z() + static_cast<double>(g.norm) * dR;
-  return drop * tolerance::kBoundGrowth < static_cast<double>(record.clearance);
 }
 
 // The discrete variant: every point near the surface at the new pose.

@@ -86,6 +86,7 @@
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/shell/point_tree.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd::haptics {
 
@@ -213,13 +214,25 @@ class GodObject {
   // The clearance cache's axis certificates (grid fields; see @details): per point whose last evaluation was in
   // the field's box, its clearance, block and the travel sums then.
   struct AxisRecord {
-    Vec3 travelAxis = Vec3::Zero();  // m_travelAxis at the evaluation (model units)
-    double travelRotation = 0.0;     // m_travelRotation at the evaluation (rad)
-    float clearance = 0.0f;          // phi - sigma less the rounding slack, rounded down (model units)
-    int block = -1;                  // the AxisLipschitzBounds block of the evaluation point (-1: no record)
+    // The evaluation point's block bounds (axis_lipschitz_bounds.h), copied so that the check reads one record.
+    float gx = 0.0f, gy = 0.0f, gz = 0.0f, gNorm = 0.0f;
+    // m_travelAxis and m_travelRotation at the evaluation, rounded down (the travel since is overestimated).
+    float travelX = 0.0f, travelY = 0.0f, travelZ = 0.0f, travelRotation = 0.0f;
+    float clearance = -1.0f;  // phi - sigma less the rounding slack, rounded down (model units); <= 0: no record
   };
   /// Does point p's axis record rule out reaching sigma after the travel so far (radius: |point - centre|)?
-  bool axisRecordHolds(const AxisRecord& record, double radius) const;
+  bool axisRecordHolds(const AxisRecord& record, double radius) const {
+    if (!(record.clearance > 0.0f)) return false;
+    const double dx = m_travelAxis.x() - static_cast<double>(record.travelX);
+    const double dy = m_travelAxis.y() - static_cast<double>(record.travelY);
+    const double dz = m_travelAxis.z() - static_cast<double>(record.travelZ);
+    const double dR = (m_travelRotation - static_cast<double>(record.travelRotation)) * radius;
+    if (!((dx + dy + dz + dR) * tolerance::kBoundGrowth < m_axisReach)) return false;
+    const double drop = static_cast<double>(record.gx) * dx + static_cast<double>(record.gy) * dy +
+                        static_cast<double>(record.gz) * dz + static_cast<double>(record.gNorm) * dR;
+    return drop * tolerance::kBoundGrowth < static_cast<double>(record.clearance);
+  }
+  double m_axisReach = 0.0;                                 // model units: m_axisBounds->reach()
   std::shared_ptr<const AxisLipschitzBounds> m_axisBounds;  // grid fields with the clearance cache
   std::vector<AxisRecord> m_axisRecords;
   Vec3 m_travelAxis = Vec3::Zero();  // per field axis, sum of |centre translation along it| over the moves

@@ -17,7 +17,7 @@ namespace sdfccd {
 namespace {
 
 /// `v` rounded up to a float.
-float roundUp(double v) {
+float roundedUpToFloat(double v) {
   float f = static_cast<float>(v);
   if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
   return f;
@@ -78,12 +78,12 @@ AxisLipschitzBounds::AxisLipschitzBounds(const SdfGrid& grid, int blockCells) {
             for (int dx = std::max(0, bx - 1); dx <= std::min(m_blocks.x() - 1, bx + 1); ++dx)
               for (int a = 0; a < 3; ++a) worst[a] = std::max(worst[a], own[blockIndex(dx, dy, dz)][a]);
         Block& b = m_bounds[blockIndex(bx, by, bz)];
-        b.x = roundUp(worst[0] * scale);
-        b.y = roundUp(worst[1] * scale);
-        b.z = roundUp(worst[2] * scale);
+        b.x = roundedUpToFloat(worst[0] * scale);
+        b.y = roundedUpToFloat(worst[1] * scale);
+        b.z = roundedUpToFloat(worst[2] * scale);
         const double norm =
             std::sqrt(static_cast<double>(b.x) * b.x + static_cast<double>(b.y) * b.y + static_cast<double>(b.z) * b.z);
-        b.norm = roundUp(norm * tolerance::kBoundGrowth);
+        b.norm = roundedUpToFloat(norm * tolerance::kBoundGrowth);
       }
     }
   }
