@@ -16,6 +16,13 @@
 namespace sdfccd::haptics {
 
 namespace {
+/// `v` rounded down to a float.
+float roundedDown(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
 // Normals within this angle (rad) form one contact patch for the friction solve (reduceContactPatches): a flat
 // face of a grid field has gradients equal to about this; the error it admits is of that relative size.
 constexpr double kPatchAngle = 1e-6;
@@ -34,7 +41,14 @@ GodObject<Field>::GodObject(const PointTree& tree, const Field& field, const Rig
   initialize(worldFromGodStart);
   if (settings.clearanceCache) {
     m_bounds = fieldCullingBounds(field);
-    if constexpr (std::is_same_v<Field, GridField>) m_local = LocalLipschitzBounds(field.grid());
+    if constexpr (std::is_same_v<Field, GridField>) {
+      m_local = LocalLipschitzBounds(field.grid());
+      if (settings.axisCertificates) {
+        m_axisBounds = sharedAxisLipschitzBounds(field);
+        m_axisReach = m_axisBounds->reach();
+        m_axisRecords.assign(m_skip.size(), AxisRecord{});
+      }
+    }
   }
 }
 
@@ -250,9 +264,16 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
   const double stepRotation = Eigen::AngleAxisd(end.linear() * start.linear().transpose()).angle();
   const double translationBefore = m_travelTranslation;
   const double rotationBefore = m_travelRotation;
+  const Vec3 axisBefore = m_travelAxis;
   // Slack against rounding in the accumulated sums.
   m_travelTranslation += stepTranslation * tolerance::kBoundGrowth;
   m_travelRotation += stepRotation * tolerance::kBoundGrowth;
+  // Rounded up: the axis certificates compare differences of these sums (whose own rounding kBoundGrowth covers).
+  constexpr double up = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+    m_travelAxis[a] = std::nextafter(
+        m_travelAxis[a] + std::abs(end.translation()[a] - start.translation()[a]) * tolerance::kBoundGrowth, up);
+  m_travelRotation = std::nextafter(m_travelRotation, up);
   const double travelT = m_travelTranslation;
   const double travelR = m_travelRotation;
   const double lipschitz = m_bounds.lipschitz * tolerance::kBoundGrowth;
@@ -262,6 +283,10 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
   for (std::size_t p = 0; p < n; ++p) {
     const double radius = static_cast<double>(m_pointRadius[p]);
     if (static_cast<double>(m_clearanceBudget[p]) > travelT + travelR * radius) {
+      m_skip[p] = 1;
+      continue;
+    }
+    if (m_axisBounds && axisRecordHolds(m_axisRecords[p], radius)) {
       m_skip[p] = 1;
       continue;
     }
@@ -287,6 +312,20 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
       if (static_cast<double>(f) > budget) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
       m_clearanceBudget[p] = f;
       m_skip[p] = static_cast<double>(f) > travelT + travelR * radius;
+      if (m_axisBounds) {
+        AxisRecord& record = m_axisRecords[p];
+        const int block = m_axisBounds->blockOf(pointInSdf);  // -1 outside the box: no axis certificate
+        record.clearance = block < 0 ? -1.0f : roundedDown(clearance);
+        if (block >= 0) {
+          const AxisLipschitzBounds::Block& g = m_axisBounds->block(block);
+          record.gx = g.x, record.gy = g.y, record.gz = g.z, record.gNorm = g.norm;
+          record.travelX = roundedDown(axisBefore.x());
+          record.travelY = roundedDown(axisBefore.y());
+          record.travelZ = roundedDown(axisBefore.z());
+          record.travelRotation = roundedDown(rotationBefore);
+        }
+        if (!m_skip[p]) m_skip[p] = axisRecordHolds(record, radius);
+      }
     }
   }
   if (ignoreContacts)

@@ -54,6 +54,7 @@ PenaltyRenderer<Field>::PenaltyRenderer(const PointTree& tree, const Field* fiel
   // bit, fewer field lookups where the shell stays clear of the field between ticks.
   if (settings.coherentCcd && m_field != nullptr) {  // obstacles: each pair keeps its own history
     m_query.coherence = &m_coherence;
+    m_coherence.axisCertificates = settings.axisCertificates;
     // Builds the history (per-node tables and a first front) with a zero-length query at the start pose, so that the
     // first tick of the loop does not pay for it (2.3 ms at 25,000 points in the peg). Its result is not used.
     ContactQuerySettings warm = m_query;

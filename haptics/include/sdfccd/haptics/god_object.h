@@ -55,6 +55,14 @@
 /// every side point within 0.07 voxel of the wall) re-queries every point near the wall every cycle although the
 /// god-object barely moves.
 ///
+/// Grid fields also split the travel per axis of the field (axis_lipschitz_bounds.h): a point's evaluation records
+/// its clearance, its block of per-axis gradient bounds G and the travel sums then, per axis T_a (sum over cycles of
+/// |translation of the centre along a|) and R (sum of rotation angles). Its position then moved by d with
+/// |d_a| <= dT_a + |rotation part|_a, so phi changed by at most sum_a G_a dT_a + |G| dR |point - centre| along the
+/// straight path, which stays within the block's reach while sum_a dT_a + dR |point - centre| does. A point whose
+/// scalar budget ran out is kept skipped while that bound stays below its clearance: sliding along an axis-aligned
+/// wall (G along it ~0: the peg in its hole) no longer uses the clearance up.
+///
 /// Several obstacles (the ObstacleContacts constructor, haptic_obstacles.h): steps 5 and 6 (and the discrete variant's
 /// candidates) gather from every obstacle's pair instead of the one field, the rows in the same form; a cycle whose
 /// time (setObstacleTime) moved an obstacle starts with its push. The clearance cache is the one field's and is off.
@@ -65,8 +73,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "sdfccd/ccd/axis_lipschitz_bounds.h"
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/field/field_culling_bounds.h"
 #include "sdfccd/haptics/contact_qp.h"
@@ -76,6 +86,7 @@
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/math_types.h"
 #include "sdfccd/shell/point_tree.h"
+#include "sdfccd/tolerances.h"
 
 namespace sdfccd::haptics {
 
@@ -97,6 +108,7 @@ struct GodObjectSettings {
   double depthCorrection = 1.0;                 ///< gain of the outward bias for contacts below sigma (0: off)
   bool continuous = true;                       ///< false: the discrete-collision variant (Fig. 11)
   bool clearanceCache = true;                   ///< skip points that provably cannot reach sigma (see @details)
+  bool axisCertificates = true;                 ///< grid fields: the cache also splits the travel per axis
   OctreeMode octree = OctreeMode::Leaves;       ///< cell skipping at haptic rates (Section 4.1: leaves)
   CcdMethod ccdMethod = CcdMethod::Exact;
   int threads = 1;       ///< CCD worker threads
@@ -199,6 +211,31 @@ class GodObject {
   std::vector<float> m_pointRadius;      // |point - centre|, rounded up
   double m_travelTranslation = 0.0;      // sum of |centre translation| over the moves (model units)
   double m_travelRotation = 0.0;         // sum of rotation angles over the moves (rad)
+  // The clearance cache's axis certificates (grid fields; see @details): per point whose last evaluation was in
+  // the field's box, its clearance, block and the travel sums then.
+  struct AxisRecord {
+    // The evaluation point's block bounds (axis_lipschitz_bounds.h), copied so that the check reads one record.
+    float gx = 0.0f, gy = 0.0f, gz = 0.0f, gNorm = 0.0f;
+    // m_travelAxis and m_travelRotation at the evaluation, rounded down (the travel since is overestimated).
+    float travelX = 0.0f, travelY = 0.0f, travelZ = 0.0f, travelRotation = 0.0f;
+    float clearance = -1.0f;  // phi - sigma less the rounding slack, rounded down (model units); <= 0: no record
+  };
+  /// Does point p's axis record rule out reaching sigma after the travel so far (radius: |point - centre|)?
+  bool axisRecordHolds(const AxisRecord& record, double radius) const {
+    if (!(record.clearance > 0.0f)) return false;
+    const double dx = m_travelAxis.x() - static_cast<double>(record.travelX);
+    const double dy = m_travelAxis.y() - static_cast<double>(record.travelY);
+    const double dz = m_travelAxis.z() - static_cast<double>(record.travelZ);
+    const double dR = (m_travelRotation - static_cast<double>(record.travelRotation)) * radius;
+    if (!((dx + dy + dz + dR) * tolerance::kBoundGrowth < m_axisReach)) return false;
+    const double drop = static_cast<double>(record.gx) * dx + static_cast<double>(record.gy) * dy +
+                        static_cast<double>(record.gz) * dz + static_cast<double>(record.gNorm) * dR;
+    return drop * tolerance::kBoundGrowth < static_cast<double>(record.clearance);
+  }
+  double m_axisReach = 0.0;                                 // model units: m_axisBounds->reach()
+  std::shared_ptr<const AxisLipschitzBounds> m_axisBounds;  // grid fields with the clearance cache
+  std::vector<AxisRecord> m_axisRecords;
+  Vec3 m_travelAxis = Vec3::Zero();  // per field axis, sum of |centre translation along it| over the moves
 };
 
 }  // namespace sdfccd::haptics

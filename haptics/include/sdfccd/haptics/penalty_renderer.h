@@ -66,6 +66,9 @@ struct PenaltyRendererSettings {
   /// The CCD started from the last tick's front (temporal coherence, rigid_ccd_coherence.h): the contacts are the
   /// fresh query's bit for bit; false: the fresh query every tick (for comparison).
   bool coherentCcd = true;
+  /// With coherentCcd: certificates that split the motion per axis of the field (axis_lipschitz_bounds.h), so that
+  /// sliding along an axis-aligned wall does not use up a point's clearance; the same contacts bit for bit.
+  bool axisCertificates = true;
   /// How the coupling enters the step and what the device is rendered (implicit_coupling.h): Explicit (default, the
   /// former scheme: the device frozen for the tick, rendered the coupling at the tick's start), Implicit (the
   /// paper's admittance mode: rendered the coupling at the end of the object's implicit step) or ImplicitWithDevice

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "ccd/rigid_ccd_axis_certificate.h"
 #include "ccd/rigid_ccd_query.h"
 #include "sdfccd/ccd/rigid_ccd_coherence.h"
 
@@ -85,6 +86,7 @@ class CoherentQuery {
         m_segment(rigidCcdScratch().segment) {
     m_bounds = fieldCullingBounds(field);
     prepareCache(start, end);
+    m_axis = AxisCertificates<Field>(cache, field, start, end);
   }
 
   void run(RigidCcdResult& out) {
@@ -141,7 +143,8 @@ class CoherentQuery {
   bool certified(const RigidCcdCoherence::Entry& e, double headroom) const {
     if (e.kind == RigidCcdCoherence::Kind::None) return false;
     const double moved = m_rotation[e.pose] * m_reach[e.node] + m_translation[e.pose];
-    return (m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth < e.room;
+    if ((m_tree.radius(e.node) + headroom * moved) * tolerance::kBoundGrowth < e.room) return true;
+    return m_axis.holds(e, m_tree.radius(e.node), m_reach[e.node], m_settings.sigma, headroom);
   }
 
   /// The distance the node's points may reach from its centre at the certificate's pose without touching
@@ -171,6 +174,7 @@ class CoherentQuery {
     } else {
       e.kind = RigidCcdCoherence::Kind::Phi;
       e.clearance = m_field.distance(c1);
+      e.block = m_axis.blockOf(c1);
     }
     if (!std::isfinite(e.clearance)) e.kind = RigidCcdCoherence::Kind::None;
     e.room = roomOf(e);
@@ -298,6 +302,7 @@ class CoherentQuery {
   const int* m_parent = nullptr;  // the shared tree tables (RigidCcdCoherence::TreeTables)
   const double* m_reach = nullptr;
   int m_endPose = -1;
+  AxisCertificates<Field> m_axis;                                   // off unless the history asks for axis certificates
   std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
   std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|
   SegmentCcdResult& m_segment;

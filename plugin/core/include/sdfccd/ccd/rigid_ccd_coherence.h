@@ -33,6 +33,8 @@
 
 namespace sdfccd {
 
+class AxisLipschitzBounds;
+
 class RigidCcdCoherence {
  public:
   /// Forgets the history: the next query starts at the root.
@@ -42,6 +44,7 @@ class RigidCcdCoherence {
     frontCertified = false;
     poses.clear();
     tables.reset();
+    axisBounds.reset();
     treeId = 0;
     fieldId = 0;
   }
@@ -56,6 +59,7 @@ class RigidCcdCoherence {
     double clearance = 0.0;
     double room = 0.0;  // how far below the centre (radius + motion) the certificate allows
     Kind kind = Kind::None;
+    int block = -1;  // axis certificate: the AxisLipschitzBounds block of the centre (-1: none)
   };
   /// Per kept pose, the front's certificates at that pose folded into one test (`clear` below): the largest
   /// reach from the shell origin and the smallest room left over a node's radius (room / kBoundGrowth - radius).
@@ -73,6 +77,12 @@ class RigidCcdCoherence {
     std::vector<double> reachFromOrigin;  // per node: |centre| + radius, shell frame
   };
   std::vector<Rigid> poses;  // sdfFromShell at each certificate's pose
+  /// Opt-in: Phi certificates also record their centre's block of the field's per-axis gradient bounds
+  /// (axis_lipschitz_bounds.h; GridField only), and a node whose certificate fails by its motion's length is
+  /// tried again with the motion split per axis (src/ccd/rigid_ccd_axis_certificate.h): motion along a wall
+  /// then costs no clearance. Costs one pass over the field's cells on the first query (shared per field).
+  bool axisCertificates = false;
+  std::shared_ptr<const AxisLipschitzBounds> axisBounds;
   std::shared_ptr<const TreeTables> tables;
   std::uint64_t treeId = 0;   // the key: a query with other inputs starts afresh. Instance ids (instance_id.h),
   std::uint64_t fieldId = 0;  // not addresses: a new tree or field at a freed one's address must not match
@@ -85,6 +95,7 @@ class RigidCcdCoherence {
   std::vector<double> scratchRotation;
   std::vector<double> scratchTranslation;
   std::vector<int> scratchRemap;
+  std::vector<Vec3> scratchAxisMotion;
 };
 
 }  // namespace sdfccd
