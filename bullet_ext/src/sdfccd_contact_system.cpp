@@ -222,10 +222,12 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
     const bool anchors = !closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor;
-    // The CCD history only for our shell tree against our grid field: both persistent (owned by the shapes'
-    // BodyModels) and keyed by instance id. Other shells and fields are per-step objects: no history.
-    const bool coherent =
-        !closestPointsOnly && m_settings.coherentCcd && isSdfccdShape(shellShape) && isSdfccdShape(fieldShape);
+    // The CCD history only for our shell tree against our grid field (both persistent, owned by the shapes'
+    // BodyModels, and keyed by instance id) or the analytic plane and box (keyed by their values). Other shells
+    // and fields are per-step objects: no history.
+    const bool coherent = !closestPointsOnly && m_settings.coherentCcd && isSdfccdShape(shellShape) &&
+                          (isSdfccdShape(fieldShape) || detail::shapeKind(fieldShape) == ShapeKind::Plane ||
+                           fieldShape->getShapeType() == BOX_SHAPE_PROXYTYPE);
     if (anchors || coherent) {  // one map lookup per role (a pile has thousands of slots)
       // anchorSlot() keeps the slot: it forgets table and history when another pair reuses the manifold.
       AnchorSlot& slot =

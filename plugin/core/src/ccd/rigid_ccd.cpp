@@ -4,7 +4,6 @@
 #include "sdfccd/ccd/rigid_ccd.h"
 
 #include <mutex>
-#include <type_traits>
 #include <unordered_map>
 #include <utility>
 
@@ -15,16 +14,6 @@
 #include "sdfccd/field/polytope_fields.h"
 
 namespace sdfccd {
-namespace {
-
-/// Does the field carry an instance id (instance_id.h)? Only such fields can key a coherence history safely.
-template <class Field, class = void>
-struct HasInstanceId : std::false_type {};
-template <class Field>
-struct HasInstanceId<Field, std::void_t<decltype(std::declval<const Field&>().instanceId())>> : std::true_type {};
-
-}  // namespace
-
 namespace detail {
 
 std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree) {
@@ -65,7 +54,7 @@ template <class Field>
 bool rigidCcdCertifiedClear(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart,
                             const Rigid& sdfFromShellEnd, const RigidCcdSettings& settings, RigidCcdCoherence& history,
                             RigidCcdResult& outResult) {
-  if constexpr (!HasInstanceId<Field>::value) {
+  if constexpr (!detail::kCoherentField<Field>) {
     return false;
   } else {
     if (settings.earliestOnly || settings.cullLipschitz != 0.0 || !settings.useTree) return false;
@@ -81,7 +70,7 @@ template <class Field>
 void rigidCcd(const PointTree& tree, const Field& field, const Rigid& sdfFromShellStart, const Rigid& sdfFromShellEnd,
               const RigidCcdSettings& settings, RigidCcdCoherence& history, RigidCcdResult& outResult) {
   if (rigidCcdCertifiedClear(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, history, outResult)) return;
-  if constexpr (!HasInstanceId<Field>::value) {
+  if constexpr (!detail::kCoherentField<Field>) {
     // No identity to key the history by (an address may be reused by another field): fresh, and forget.
     history.reset();
     rigidCcd(tree, field, sdfFromShellStart, sdfFromShellEnd, settings, outResult);

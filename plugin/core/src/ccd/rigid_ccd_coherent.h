@@ -4,13 +4,18 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "ccd/rigid_ccd_axis_certificate.h"
 #include "ccd/rigid_ccd_query.h"
 #include "sdfccd/ccd/rigid_ccd_coherence.h"
+#include "sdfccd/field/analytic_fields.h"
 
 namespace sdfccd {
 namespace detail {
@@ -42,35 +47,68 @@ inline PoseMotion motionSince(const Rigid& p, const Rigid& start, const Rigid& e
           std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm())};
 }
 
+/// What keys a history to its field: a field with an instance id (instance_id.h) by that id; the analytic plane
+/// and box by their values (a new object with the same values is the same field, wherever it lives: Bullet's
+/// ground is built per step); any other field has no key (id 0: no history). The ids of the value keys lie far
+/// above any instance id (a counter from 1).
+struct FieldKey {
+  std::uint64_t id = 0;
+  std::array<double, 4> value{};
+};
+constexpr std::uint64_t kPlaneKeyId = ~std::uint64_t(0);
+constexpr std::uint64_t kBoxKeyId = ~std::uint64_t(0) - 1;
+
+template <class Field, class = void>
+struct HasInstanceId : std::false_type {};
+template <class Field>
+struct HasInstanceId<Field, std::void_t<decltype(std::declval<const Field&>().instanceId())>> : std::true_type {};
+
+template <class Field>
+FieldKey fieldKey(const Field& field) {
+  if constexpr (HasInstanceId<Field>::value) {
+    return {field.instanceId(), {}};
+  } else if constexpr (std::is_same_v<Field, PlaneField>) {
+    return {kPlaneKeyId, {field.normal().x(), field.normal().y(), field.normal().z(), field.offset()}};
+  } else if constexpr (std::is_same_v<Field, BoxField>) {
+    return {kBoxKeyId, {field.halfExtents().x(), field.halfExtents().y(), field.halfExtents().z(), 0.0}};
+  } else {
+    return {};
+  }
+}
+/// Can a history be keyed to this field type (else the query runs fresh and forgets the history)?
+template <class Field>
+constexpr bool kCoherentField =
+    HasInstanceId<Field>::value || std::is_same_v<Field, PlaneField> || std::is_same_v<Field, BoxField>;
+
 /// Is `history` keyed to these inputs (else the query starts afresh)?
 template <class Field>
 bool coherenceMatches(const RigidCcdCoherence& c, const PointTree& tree, const Field& field, double sigma,
                       double lipschitz) {
-  return c.treeId == tree.instanceId() && c.fieldId == field.instanceId() && c.nodeCount == tree.nodeCount() &&
-         c.sigma == sigma && c.lipschitz == lipschitz;
+  const FieldKey key = fieldKey(field);
+  return c.treeId == tree.instanceId() && c.fieldId == key.id && c.fieldValue == key.value &&
+         c.nodeCount == tree.nodeCount() && c.sigma == sigma && c.lipschitz == lipschitz;
 }
 
-/// The whole-front test: true when every front entry's certificate holds for the step [start, end], checked per
-/// kept pose on the front's folded bounds (RigidCcdCoherence::PoseBound) instead of entry by entry. For each
-/// entry e at pose k, maxReach_k >= reach(e) and minSlack_k <= room(e) / kBoundGrowth - radius(e), so
-///   rotation_k maxReach_k + translation_k < minSlack_k
+/// The whole-front test: true when every front entry's certificate holds for the step [start, end], checked once
+/// against the newest kept pose r on the front's folded bound (RigidCcdCoherence::FrontBound) instead of entry by
+/// entry and pose by pose. An entry e at pose k moves at most rot_k reach(e) + trans_k, and by the triangle
+/// inequality rot_k <= rot_r + ||R_r - R_k||_F and trans_k <= trans_r + |t_r - t_k|; the fold took the second
+/// terms off each entry's slack, so with maxReach >= reach(e) and minSlack <= room(e) / kBoundGrowth - radius(e) -
+/// (||R_r - R_k||_F reach(e) + |t_r - t_k|),
+///   (rotation_r maxReach + translation_r) kBoundGrowth < minSlack
 /// implies (radius(e) + moved(e)) kBoundGrowth < room(e), the entry's own test (CoherentQuery::certified); the
 /// factor kBoundGrowth on the left keeps the folding's rounding (relative 1e-16) far inside that test's slack.
-/// Then no point can touch during the step and the query's answer is empty. False for a non-finite pose (the
-/// full query reports it).
+/// Then no point can touch during the step and the query's answer is empty. One pose's motion instead of one per
+/// kept pose: the fold is slightly looser only for a shell that came back near an older pose. False for a
+/// non-finite pose (the full query reports it).
 template <class Field>
 bool coherentFrontClear(const RigidCcdCoherence& c, const PointTree& tree, const Field& field,
                         const RigidCcdSettings& settings, const Rigid& start, const Rigid& end) {
-  if (!c.frontCertified || c.front.empty() || c.poseBounds.size() != c.poses.size()) return false;
+  if (!c.frontCertified || c.front.empty() || c.poses.empty()) return false;
   if (!coherenceMatches(c, tree, field, settings.sigma, fieldCullingBounds(field).lipschitz)) return false;
   if (!start.matrix().allFinite() || !end.matrix().allFinite() || !std::isfinite(settings.sigma)) return false;
-  for (std::size_t k = 0; k < c.poses.size(); ++k) {
-    const RigidCcdCoherence::PoseBound& b = c.poseBounds[k];
-    if (b.maxReach < 0.0) continue;  // no entry at this pose
-    const PoseMotion m = motionSince(c.poses[k], start, end);
-    if (!((m.rotation * b.maxReach + m.translation) * tolerance::kBoundGrowth < b.minSlack)) return false;
-  }
-  return true;
+  const PoseMotion m = motionSince(c.poses.back(), start, end);
+  return (m.rotation * c.frontBound.maxReach + m.translation) * tolerance::kBoundGrowth < c.frontBound.minSlack;
 }
 
 template <class Field>
@@ -104,7 +142,8 @@ class CoherentQuery {
     }
     m_cache.front.swap(next);
     compactPoses();
-    foldPoseBounds();
+    m_cache.frontBound = m_fold;
+    m_cache.frontCertified = m_foldComplete && !m_cache.front.empty();
     std::sort(out.contacts.begin(), out.contacts.end(),
               [](const PointContact& a, const PointContact& b) { return a.point < b.point; });
     for (const auto& contact : out.contacts) out.firstFraction = std::min(out.firstFraction, contact.fraction);
@@ -118,7 +157,9 @@ class CoherentQuery {
     if (!coherenceMatches(c, m_tree, m_field, m_settings.sigma, m_bounds.lipschitz)) {
       c.reset();
       c.treeId = m_tree.instanceId();
-      c.fieldId = m_field.instanceId();
+      const FieldKey key = fieldKey(m_field);
+      c.fieldId = key.id;
+      c.fieldValue = key.value;
       c.nodeCount = m_tree.nodeCount();
       c.sigma = m_settings.sigma;
       c.lipschitz = m_bounds.lipschitz;
@@ -131,10 +172,15 @@ class CoherentQuery {
     m_endPose = static_cast<int>(c.poses.size()) - 1;
     m_rotation.resize(c.poses.size());
     m_translation.resize(c.poses.size());
+    m_rotationToEnd.resize(c.poses.size());
+    m_translationToEnd.resize(c.poses.size());
+    // Each pose's distance to the end pose is one half of its motion and what the fold (foldEntry) takes off.
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
-      const PoseMotion m = motionSince(c.poses[k], start, end);
-      m_rotation[k] = m.rotation;
-      m_translation[k] = m.translation;
+      const Rigid& p = c.poses[k];
+      m_rotationToEnd[k] = (end.linear() - p.linear()).norm();
+      m_translationToEnd[k] = (end.translation() - p.translation()).norm();
+      m_rotation[k] = std::max((start.linear() - p.linear()).norm(), m_rotationToEnd[k]);
+      m_translation[k] = std::max((start.translation() - p.translation()).norm(), m_translationToEnd[k]);
     }
   }
 
@@ -147,18 +193,21 @@ class CoherentQuery {
     return m_axis.holds(e, m_tree.radius(e.node), m_reach[e.node], m_settings.sigma, headroom);
   }
 
-  /// The distance the node's points may reach from its centre at the certificate's pose without touching
+  /// The distance the node's points may reach from its centre `c1` at the certificate's pose without touching
   /// (`room` of the entry; the same for every node of that centre), with slack against rounding of the same
-  /// relative size as the traversal's, on the magnitudes involved.
-  double roomOf(const RigidCcdCoherence::Entry& e) const {
+  /// relative size as the traversal's, on the magnitudes involved: the clearance and sigma, and the coordinates
+  /// (the points' positions and the field's value round relative to them: far from the origin an unbounded
+  /// field's clearance can be small beside them).
+  double roomOf(const RigidCcdCoherence::Entry& e, const Vec3& c1) const {
     constexpr double eps = tolerance::kRelativeSlack;
-    if (e.kind == RigidCcdCoherence::Kind::Box) return e.clearance * (1.0 - eps);
-    const double margin = e.clearance - m_settings.sigma - eps * (std::abs(e.clearance) + std::abs(m_settings.sigma));
+    const double coordinates = eps * (c1.norm() + m_reach[0]);  // the root's reach: any point's (ascent too)
+    if (e.kind == RigidCcdCoherence::Kind::Box) return e.clearance * (1.0 - eps) - coordinates;
+    const double margin =
+        e.clearance - m_settings.sigma - eps * (std::abs(e.clearance) + std::abs(m_settings.sigma)) - coordinates;
     const double room = margin / m_bounds.lipschitz * (1.0 - eps);
     // A field with jumps: the room holds as it is when no jump is within it of the certificate's centre;
     // otherwise the jump comes off the margin (a smaller room, so the same check still covers it).
-    const Vec3 c = m_query.endOf(m_tree.center(e.node));
-    const double jump = room > 0.0 ? fieldJumpNear(m_field, m_bounds, c, c, room) : 0.0;
+    const double jump = room > 0.0 ? fieldJumpNear(m_field, m_bounds, c1, c1, room) : 0.0;
     if (jump == 0.0) return room;
     return (margin - jump * (1.0 + eps)) / m_bounds.lipschitz * (1.0 - eps);
   }
@@ -177,7 +226,7 @@ class CoherentQuery {
       e.block = m_axis.blockOf(c1);
     }
     if (!std::isfinite(e.clearance)) e.kind = RigidCcdCoherence::Kind::None;
-    e.room = roomOf(e);
+    e.room = roomOf(e, c1);
     return e;
   }
 
@@ -226,8 +275,9 @@ class CoherentQuery {
 
   /// Appends `e` to the new front, then replaces complete certified sibling groups at its end by their parent
   /// while the parent's certificate (its first child's) holds with room to spare.
-  void emit(const RigidCcdCoherence::Entry& e, std::vector<RigidCcdCoherence::Entry>& next, bool ascend = true) const {
+  void emit(const RigidCcdCoherence::Entry& e, std::vector<RigidCcdCoherence::Entry>& next, bool ascend = true) {
     next.push_back(e);
+    foldEntry(e);
     while (ascend) {
       const int node = next.back().node;
       const int parent = m_parent[node];
@@ -246,27 +296,29 @@ class CoherentQuery {
       if (!certified(up, 2.0)) return;
       next.resize(begin);
       next.push_back(up);
+      foldEntry(up);
     }
   }
 
-  /// Folds the new front's certificates per pose for coherentFrontClear (maxReach < 0: no entry at that pose).
-  void foldPoseBounds() {
-    RigidCcdCoherence& c = m_cache;
-    c.frontCertified = true;
-    c.poseBounds.assign(c.poses.size(), {-1.0, 0.0});
-    for (const RigidCcdCoherence::Entry& e : c.front) {
-      if (e.kind == RigidCcdCoherence::Kind::None || e.pose < 0) {
-        c.frontCertified = false;
-        return;
-      }
-      RigidCcdCoherence::PoseBound& b = c.poseBounds[static_cast<std::size_t>(e.pose)];
-      const double slack = e.room / tolerance::kBoundGrowth - m_tree.radius(e.node);
-      if (b.maxReach < 0.0) {
-        b = {m_reach[e.node], slack};
-      } else {
-        b.maxReach = std::max(b.maxReach, m_reach[e.node]);
-        b.minSlack = std::min(b.minSlack, slack);
-      }
+  /// Folds `e` into the new front's bound at this step's end pose (the newest kept: compactPoses keeps it) for
+  /// coherentFrontClear: its reach, and its slack less the motion from its certificate's pose to the end pose.
+  /// Every entry pushed onto the new front is folded, also the sibling groups the ascent then replaces by their
+  /// parent: a bound over more entries is only more conservative, and it costs no second pass over the front.
+  void foldEntry(const RigidCcdCoherence::Entry& e) {
+    if (e.kind == RigidCcdCoherence::Kind::None || e.pose < 0) {
+      m_foldComplete = false;
+      return;
+    }
+    const std::size_t k = static_cast<std::size_t>(e.pose);
+    const double reach = m_reach[e.node];
+    const double slack =
+        e.room / tolerance::kBoundGrowth - m_tree.radius(e.node) - (m_rotationToEnd[k] * reach + m_translationToEnd[k]);
+    if (m_foldEmpty) {
+      m_fold = {reach, slack};
+      m_foldEmpty = false;
+    } else {
+      m_fold.maxReach = std::max(m_fold.maxReach, reach);
+      m_fold.minSlack = std::min(m_fold.minSlack, slack);
     }
   }
 
@@ -280,6 +332,7 @@ class CoherentQuery {
     for (const auto& e : c.front) {
       if (e.pose >= 0) remap[static_cast<std::size_t>(e.pose)] = 0;
     }
+    remap[static_cast<std::size_t>(m_endPose)] = 0;  // the whole-front bound's pose: kept, and stays the newest
     std::size_t kept = 0;
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
       if (remap[k] < 0) continue;
@@ -302,9 +355,14 @@ class CoherentQuery {
   const int* m_parent = nullptr;  // the shared tree tables (RigidCcdCoherence::TreeTables)
   const double* m_reach = nullptr;
   int m_endPose = -1;
-  AxisCertificates<Field> m_axis;                                   // off unless the history asks for axis certificates
-  std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
-  std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|
+  AxisCertificates<Field> m_axis;  // off unless the history asks for axis certificates
+  std::vector<double>& m_rotation = m_cache.scratchRotation;            // per kept pose: largest ||R - R_k||_F over the
+  std::vector<double>& m_translation = m_cache.scratchTranslation;      // step's two poses, and largest |t - t_k|
+  std::vector<double>& m_rotationToEnd = m_cache.scratchRotationToEnd;  // per kept pose: ||R_end - R_k||_F and
+  std::vector<double>& m_translationToEnd = m_cache.scratchTranslationToEnd;  // |t_end - t_k|
+  RigidCcdCoherence::FrontBound m_fold;                                       // the new front's bound (foldEntry)
+  bool m_foldEmpty = true;
+  bool m_foldComplete = true;  // every entry folded carries a certificate
   SegmentCcdResult& m_segment;
 };
 

@@ -21,10 +21,12 @@
 /// Ownership: the caller keeps one per (shell, field) pair and role and passes it to every query of that pair;
 /// a query with another tree, field, sigma or gradient bound starts afresh. Tree and field are told apart by their
 /// instance ids (instance_id.h), never by address, so a new object at a freed one's address starts afresh too;
-/// fields without an id (the analytic and triangle fields, usually per-step locals) run the fresh query and
-/// reset the history. Not thread safe: one query at a time.
+/// the analytic plane and box (per-step locals in Bullet) by their values, which say all there is to them; other
+/// fields (the sphere, capsule and triangle fields) run the fresh query and reset the history. Not thread safe:
+/// one query at a time.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -40,13 +42,14 @@ class RigidCcdCoherence {
   /// Forgets the history: the next query starts at the root.
   void reset() {
     front.clear();
-    poseBounds.clear();
+    frontBound = {};
     frontCertified = false;
     poses.clear();
     tables.reset();
     axisBounds.reset();
     treeId = 0;
     fieldId = 0;
+    fieldValue = {};
   }
   /// Front nodes after the last query (0 before the first).
   std::size_t frontSize() const { return front.size(); }
@@ -61,15 +64,17 @@ class RigidCcdCoherence {
     Kind kind = Kind::None;
     int block = -1;  // axis certificate: the AxisLipschitzBounds block of the centre (-1: none)
   };
-  /// Per kept pose, the front's certificates at that pose folded into one test (`clear` below): the largest
-  /// reach from the shell origin and the smallest room left over a node's radius (room / kBoundGrowth - radius).
-  struct PoseBound {
+  /// The front's certificates folded into one test at the newest kept pose `poses.back()` (the whole-front
+  /// test, coherentFrontClear): the largest reach from the shell origin and the smallest room left over a node's
+  /// radius and over the motion from its certificate's pose to the newest (room / kBoundGrowth - radius - that),
+  /// over the front's entries (and possibly more: a superset is only more conservative).
+  struct FrontBound {
     double maxReach = 0.0;
     double minSlack = 0.0;
   };
   std::vector<Entry> front;
-  std::vector<PoseBound> poseBounds;  // per pose of `poses`, valid when frontCertified
-  bool frontCertified = false;        // every front entry carries a certificate (none is a contact or ignored)
+  FrontBound frontBound;        // valid when frontCertified
+  bool frontCertified = false;  // every front entry carries a certificate (none is a contact or ignored)
   /// Per-tree tables, the same for every history of one tree: shared (rigidCcdTreeTables in the query), so
   /// that hundreds of pairs of one shape keep one copy warm in the cache instead of one each.
   struct TreeTables {
@@ -86,6 +91,7 @@ class RigidCcdCoherence {
   std::shared_ptr<const TreeTables> tables;
   std::uint64_t treeId = 0;   // the key: a query with other inputs starts afresh. Instance ids (instance_id.h),
   std::uint64_t fieldId = 0;  // not addresses: a new tree or field at a freed one's address must not match
+  std::array<double, 4> fieldValue{};  // a field keyed by value (the analytic plane and box): its numbers
   int nodeCount = 0;
   double sigma = 0.0;
   double lipschitz = 0.0;
@@ -94,6 +100,8 @@ class RigidCcdCoherence {
   std::vector<int> scratchStack;
   std::vector<double> scratchRotation;
   std::vector<double> scratchTranslation;
+  std::vector<double> scratchRotationToEnd;
+  std::vector<double> scratchTranslationToEnd;
   std::vector<int> scratchRemap;
   std::vector<Vec3> scratchAxisMotion;
 };
