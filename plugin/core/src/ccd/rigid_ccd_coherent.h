@@ -322,15 +322,30 @@ class CoherentQuery {
     }
   }
 
-  /// Drops the poses no front entry refers to once there are many.
+  /// Once there are many poses: moves the older half's certificates to the end pose and drops the poses no
+  /// front entry refers to.
   void compactPoses() {
     RigidCcdCoherence& c = m_cache;
     if (c.poses.size() < kCoherencePoses) return;
     // In place, in the cache's buffers: this runs on most queries of a long contact (allocation-free).
     std::vector<int>& remap = c.scratchRemap;
     remap.assign(c.poses.size(), -1);
-    for (const auto& e : c.front) {
-      if (e.pose >= 0) remap[static_cast<std::size_t>(e.pose)] = 0;
+    // Certificates at the older half of the poses move to the end pose, so that the kept poses (one motion each
+    // per query, prepareCache) stay few: by the triangle inequality a certificate at pose k holds at the end
+    // pose with its room less the motion from k to the end, rotation times the root's reach (which bounds every
+    // point's distance from the shell origin: the room stays the same for every node of a centre, as the ascent
+    // takes it) plus translation, grown against rounding.
+    const std::size_t migrateBelow = c.poses.size() / 2;
+    const double rootReach = m_reach[0];
+    for (auto& e : c.front) {
+      if (e.pose < 0) continue;
+      const std::size_t k = static_cast<std::size_t>(e.pose);
+      if (k < migrateBelow) {
+        e.room -= (m_rotationToEnd[k] * rootReach + m_translationToEnd[k]) * tolerance::kBoundGrowth;
+        e.pose = m_endPose;
+      } else {
+        remap[k] = 0;
+      }
     }
     remap[static_cast<std::size_t>(m_endPose)] = 0;  // the whole-front bound's pose: kept, and stays the newest
     std::size_t kept = 0;
