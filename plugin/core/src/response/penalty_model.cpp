@@ -73,19 +73,35 @@ Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
   return a + t * (b - a);
 }
 
+/// What every contact's path of one role shares, computed once per role instead of once per contact (the same
+/// expressions, so the paths are bit for bit what per-contact evaluation gives).
+struct PenaltyPathFrames {
+  Rigid sdfFromWorldStart, sdfFromWorldEnd;
+  Vec3 shellComStart, shellComEnd;  // world
+  Vec3 fieldComStart, fieldComEnd;  // world
+
+  PenaltyPathFrames(const ShellMotion& shell, const FieldMotion& fieldBody)
+      : sdfFromWorldStart(fieldBody.worldFromSdfStart.inverse()),
+        sdfFromWorldEnd(fieldBody.worldFromSdfEnd.inverse()),
+        shellComStart(shell.worldFromShellStart * shell.centerOfMassInShell),
+        shellComEnd(shell.worldFromShellEnd * shell.centerOfMassInShell),
+        fieldComStart(fieldBody.worldFromSdfStart * fieldBody.centerOfMassInSdf),
+        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf) {}
+};
+
 PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
-                                      const FieldMotion& fieldBody) {
+                                      const FieldMotion& fieldBody, const PenaltyPathFrames& frames) {
   PenaltyPointPath path;
   const Vec3 pointInWorldStart = shell.worldFromShellStart * pointInShell;
   const Vec3 pointInWorldEnd = shell.worldFromShellEnd * pointInShell;
-  path.pointInSdfStart = fieldBody.worldFromSdfStart.inverse() * pointInWorldStart;
-  path.pointInSdfEnd = fieldBody.worldFromSdfEnd.inverse() * pointInWorldEnd;
+  path.pointInSdfStart = frames.sdfFromWorldStart * pointInWorldStart;
+  path.pointInSdfEnd = frames.sdfFromWorldEnd * pointInWorldEnd;
   path.normalInWorldStart = shell.worldFromShellStart.linear() * normalInShell;
   path.normalInWorldEnd = shell.worldFromShellEnd.linear() * normalInShell;
-  path.handleShellStart = pointInWorldStart - shell.worldFromShellStart * shell.centerOfMassInShell;
-  path.handleShellEnd = pointInWorldEnd - shell.worldFromShellEnd * shell.centerOfMassInShell;
-  path.handleFieldStart = pointInWorldStart - fieldBody.worldFromSdfStart * fieldBody.centerOfMassInSdf;
-  path.handleFieldEnd = pointInWorldEnd - fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf;
+  path.handleShellStart = pointInWorldStart - frames.shellComStart;
+  path.handleShellEnd = pointInWorldEnd - frames.shellComEnd;
+  path.handleFieldStart = pointInWorldStart - frames.fieldComStart;
+  path.handleFieldEnd = pointInWorldEnd - frames.fieldComEnd;
   path.worldFromSdfStart = fieldBody.worldFromSdfStart.linear();
   path.worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
   return path;
@@ -331,9 +347,11 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   PairDamping* rayleigh = useDamping && input.dampingPerStiffness > 0.0 && !discrete ? &pairDamping : nullptr;
   const int pieces = std::max(1, settings.subintervals);
   if (anchored) input.anchors->beginMatch();
+  const PenaltyPathFrames frames(shell, fieldBody);
   for (const PointContact& contact : ccd.contacts) {
     const std::size_t index = static_cast<std::size_t>(contact.point);
-    PenaltyPointPath path = makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, fieldBody);
+    PenaltyPointPath path =
+        makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, fieldBody, frames);
     path.stiffness = perArea ? input.stiffnessPerArea * (*input.areas)[index] : settings.stiffness;
     path.damping = dampingPerStiffness ? input.dampingPerStiffness * path.stiffness : settings.damping;
     if (anchored) {
