@@ -305,6 +305,7 @@ class CoherentQuery {
   /// Every entry pushed onto the new front is folded, also the sibling groups the ascent then replaces by their
   /// parent: a bound over more entries is only more conservative, and it costs no second pass over the front.
   void foldEntry(const RigidCcdCoherence::Entry& e) {
+    if (!m_foldComplete) return;  // a contact or an ignored point is on the front: no bound (most full queries)
     if (e.kind == RigidCcdCoherence::Kind::None || e.pose < 0) {
       m_foldComplete = false;
       return;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "sdfccd/error.h"
 #include "sdfccd/field/analytic_fields.h"
@@ -107,10 +108,26 @@ PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& norm
   return path;
 }
 
+/// phi at `pointInSdf`; for a grid field inside its box also the gradient there (`outHasGradient`), from the same
+/// cell lookup: GridField::distance and ::gradient interpolate that cell each, so the values are bit-identical
+/// and a penalty sample pays one lookup instead of two.
+template <class Field>
+double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& outGradient, bool& outHasGradient) {
+  outHasGradient = false;
+  if constexpr (std::is_same_v<Field, GridField>) {
+    if (field.grid().contains(pointInSdf)) {
+      outHasGradient = true;
+      return field.grid().interpolate(pointInSdf, outGradient);
+    }
+  }
+  return field.distance(pointInSdf);
+}
+
 /// The unit direction the field body is pushed at fraction t, depth d (< 0); zero when there is none.
+/// `gradientAtT`: the field's gradient at the point at t when already known (else looked up).
 template <class Field>
 Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t, double depth,
-                      const PenaltySettings& settings, double cellSize) {
+                      const PenaltySettings& settings, double cellSize, const Vec3* gradientAtT = nullptr) {
   const Vec3 shellNormal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
   Vec3 normal = shellNormal;
   if (settings.direction != PenaltyDirection::ShellNormal) {
@@ -122,7 +139,8 @@ Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t
       w = x * x * (3.0 - 2.0 * x);
     }
     if (w < 1.0) {
-      const Vec3 gradientInSdf = field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
+      const Vec3 gradientInSdf =
+          gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
       Vec3 away = -lerp(path.worldFromSdfStart * gradientInSdf, path.worldFromSdfEnd * gradientInSdf, t);
       const double awayLength = away.norm();
       if (away.allFinite() && awayLength > 0.0) {  // else: the shell normal (a flat spot of phi)
@@ -188,9 +206,12 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
                         const PenaltyRoleInput& input, bool useDamping, bool useFriction, PenaltyResult& io,
                         PairDamping* pairDamping = nullptr) {
   const Vec3 pointInSdf = lerp(path.pointInSdfStart, path.pointInSdfEnd, t);
-  const double depth = field.distance(pointInSdf) - settings.sigma;
+  Vec3 gradient;
+  bool hasGradient = false;
+  const double depth = distanceWithGradient(field, pointInSdf, gradient, hasGradient) - settings.sigma;
   if (!(depth < 0.0)) return depth;
-  const Vec3 normal = penaltyDirection(field, path, t, depth, settings, input.cellSize);
+  const Vec3 normal =
+      penaltyDirection(field, path, t, depth, settings, input.cellSize, hasGradient ? &gradient : nullptr);
   if (normal.isZero(0.0)) return depth;
   ++io.samples;
   double magnitude = -path.stiffness * depth;  // N
