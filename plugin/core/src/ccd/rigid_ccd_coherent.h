@@ -341,7 +341,8 @@ class CoherentQuery {
     for (auto& e : c.front) {
       if (e.pose < 0) continue;
       const std::size_t k = static_cast<std::size_t>(e.pose);
-      if (k < migrateBelow) {
+      // An axis certificate (block >= 0) charges the motion since its own pose from its clearance: it stays.
+      if (k < migrateBelow && e.block < 0) {
         e.room -= (m_rotationToEnd[k] * rootReach + m_translationToEnd[k]) * tolerance::kBoundGrowth;
         e.pose = m_endPose;
       } else {
@@ -371,10 +372,10 @@ class CoherentQuery {
   const int* m_parent = nullptr;  // the shared tree tables (RigidCcdCoherence::TreeTables)
   const double* m_reach = nullptr;
   int m_endPose = -1;
-  AxisCertificates<Field> m_axis;  // off unless the history asks for axis certificates
-  std::vector<double>& m_rotation = m_cache.scratchRotation;            // per kept pose: largest ||R - R_k||_F over the
-  std::vector<double>& m_translation = m_cache.scratchTranslation;      // step's two poses, and largest |t - t_k|
-  std::vector<double>& m_rotationToEnd = m_cache.scratchRotationToEnd;  // per kept pose: ||R_end - R_k||_F and
+  AxisCertificates<Field> m_axis;                                   // off unless the history asks for axis certificates
+  std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
+  std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|
+  std::vector<double>& m_rotationToEnd = m_cache.scratchRotationToEnd;        // per kept pose: ||R_end - R_k||_F and
   std::vector<double>& m_translationToEnd = m_cache.scratchTranslationToEnd;  // |t_end - t_k|
   RigidCcdCoherence::FrontBound m_fold;                                       // the new front's bound (foldEntry)
   bool m_foldEmpty = true;
