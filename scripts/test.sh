@@ -9,10 +9,10 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 jobs=$(nproc)
 
-# Every build uses Ninja: unlike the Makefiles it starts a target's compiles while the libraries it links are still
-# being built, so neither core idles at a target boundary (with -j2 the Makefiles left one idle for the last unit
-# of each library: the single haptics unit of 40 s alone). A build folder configured with another generator before
-# is configured afresh (CMake refuses to switch generators in place).
+# Every build uses Ninja: unlike the Makefiles (which finish a target, link included, before compiling anything of
+# the targets that link it) it compiles a suite's units while the libraries it links are still being built, so a
+# core does not idle through a library's last unit (the haptics library's take 40-50 s each under the sanitizers).
+# A build folder configured with another generator before is configured afresh (CMake cannot switch in place).
 configure() {
   local dir=$1
   shift
