@@ -3,7 +3,7 @@
 # Usage (as root): bash scripts/install-deps.sh
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git  # ninja: the generator of scripts/test.sh's builds
   libeigen3-dev        # core linear algebra (double)
   libassimp-dev        # mesh loading: OBJ, OFF, PLY, STL, glTF, ...
   libbullet-dev        # Bullet Physics 3.24, single precision (found through bullet.pc)
