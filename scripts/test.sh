@@ -132,6 +132,9 @@ long_runs='GoldenHash\.|ShapeQueries\.RandomRaysMatchTheTriangles|Stability\.Res
 # ... and the golden drop on 1, 2 and 4 threads, the Fig. 7 peg sessions, the solved alpha puzzle's sessions and the
 # 8-bunny piles run with and without the CCD history (each drives code the shorter cases drive, for seconds).
 long_runs+='|ParallelNarrowphase\.GoldenDropIdenticalFor1To4Threads|HapticPegFig7\.|AlphaPuzzleSolved\.|CoherentWorld\.'
+# ... and the 6,000-point peg slides that compare the per-axis certificates with the fresh query for seconds (the
+# certificates' own random-grid and ridged-wall cases run here).
+long_runs+='|PenaltyRendererAxisCertificates\.PegSlide|GodObjectAxisCertificates\.PegSlide'
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -LE install -E "$textbook|$long_runs"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
@@ -157,10 +160,10 @@ single_threaded_long='AlphaPuzzleScene\.|GodObjectClearanceCache\.|HapticSession
 single_threaded_long+='|AlphaPuzzleSolved\.|HapticPegFig7\.|LandingGear\.|Fig13NarrowPassage\.|PenaltyRendererCoherence\.'
 single_threaded_long+='|FrictionQp\.|GodObjectFriction\.'  # the friction solver's random problems: no threads
 # The Bullet file's tests: the narrowphase pool, the deferred queries and the shape cache they read, and a pile in
-# penalty mode that runs on the pool and goes to sleep. (Solver mode's deferred CCD takes the same path with another
-# closure; its drop on 1 and 2 threads takes 50 s under TSan and runs in the Release and ASan stages, as does the
-# golden drop on 1-4 threads.) One ctest run for both files: -j2 packs their tests together.
-tsan_long="$single_threaded_long|ParallelNarrowphase\\.(GoldenDropIdenticalFor1To4Threads|SolverDropIdenticalFor1And2Threads)"
+# penalty mode that runs on the pool and goes to sleep, and solver mode's drop on 1 and 2 threads (10 s under TSan
+# since the streamed batch; the golden drop on 1-4 threads runs in the Release and ASan stages). One ctest run for
+# both files: -j2 packs their tests together.
+tsan_long="$single_threaded_long|ParallelNarrowphase\\.GoldenDropIdenticalFor1To4Threads"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build-tsan --output-on-failure -j"$jobs" --timeout 900 -L tsan_tests \
   -E "$tsan_long"
 
