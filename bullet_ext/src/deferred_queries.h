@@ -51,7 +51,7 @@ struct HeldField<PlaneField> {
 /// One role's work that touches no Bullet object: the query and what is computed from it (penalty_role.h,
 /// solver_contacts.cpp). The stepping thread then applies it (statistics, manifold points, impulses, records).
 struct RoleResult {
-  ContactQueryResult query;  // penalty mode: queryContacts; solver mode: the CCD in `ccd`, `ccdSeconds`
+  ContactQueryResult query;    // penalty mode: queryContacts; solver mode: the CCD in `ccd`, `ccdSeconds`
   double roleScale = 1.0;      // s_r of the role (penalty mode's contact load)
   bool ground = false;         // the field is a plane (the ground's statistics)
   double shadowSeconds = 0.0;  // the point-by-point repeat's CPU time (shadowLinearEvery), 0 when none ran
@@ -154,7 +154,7 @@ class DeferredQueries {
   NarrowphasePool* m_streaming = nullptr;  // the pool of an open streamed batch
   std::size_t m_capacity = 0;
   std::function<void(std::size_t)> m_task;  // the batch's task (outlives it)
-  std::vector<RoleResult> m_results;  // m_results[i] belongs to m_jobs[i]; kept across steps (their buffers)
+  std::vector<RoleResult> m_results;        // m_results[i] belongs to m_jobs[i]; kept across steps (their buffers)
   /// The job of `key`, or -1. Bullet takes the pairs in the order the plan walked them (its pair array), so the
   /// job after the last one found is tried first; the hashed index is built only when that guess fails.
   std::ptrdiff_t find(const Key& key);

@@ -1,6 +1,6 @@
 /// @file
-/// @brief SdfccdContactSystem::takePlanned and runOrQueue, shared by penalty mode (sdfccd_contact_system.cpp) and solver mode
-/// (solver_contacts.cpp): where one role's work runs in a planned step (sdfccd_parallel_step.cpp).
+/// @brief SdfccdContactSystem::takePlanned and runOrQueue, shared by penalty mode (sdfccd_contact_system.cpp) and
+/// solver mode (solver_contacts.cpp): where one role's work runs in a planned step (sdfccd_parallel_step.cpp).
 #pragma once
 
 #include <memory>
@@ -20,7 +20,7 @@ inline const detail::RoleResult* SdfccdContactSystem::takePlanned(const Role& ro
 
 template <class Input, class Run>
 const detail::RoleResult* SdfccdContactSystem::runOrQueue(const Role& role, bool deferrableField, const Input& input,
-                                                         Run run) {
+                                                          Run run) {
   static_assert(std::is_empty_v<Run>, "runOrQueue: `run` must capture nothing (its inputs are in `input`)");
   if (m_planning) {
     if (deferrableField && role.deferrable) {

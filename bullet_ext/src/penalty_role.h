@@ -29,7 +29,9 @@ inline double steadySeconds() {
 
 /// The clock of the CCD statistics: the thread's CPU time while the point-by-point repeat is timed beside the tree
 /// (shadowLinearEvery, paper Table 4: both on the same clock), else the steady clock.
-inline double (*ccdClock(bool cpuTime))() { return cpuTime ? &threadCpuSeconds : &steadySeconds; }
+inline double (*ccdClock(bool cpuTime))() {
+  return cpuTime ? &threadCpuSeconds : &steadySeconds;
+}
 
 /// What a penalty role's work reads, by value (it may run later, on the pool).
 struct PenaltyRoleInput {
@@ -38,8 +40,8 @@ struct PenaltyRoleInput {
   double timeStep = 0.0;
   ContactQuerySettings query;
   double cellSize = 0.0;
-  double thresholdCells = 0.0;     // time-of-impact clamp threshold (cells)
-  std::size_t shell = 0;           // body indices, for the record
+  double thresholdCells = 0.0;  // time-of-impact clamp threshold (cells)
+  std::size_t shell = 0;        // body indices, for the record
   std::size_t field = 0;
   bool shellIsBody0 = true;        // manifold points' convention
   bool discrete = false;           // the discrete model (or a closest-point query)
@@ -48,9 +50,9 @@ struct PenaltyRoleInput {
   int maxManifoldPoints = 0;
   bool shellKinematic = false;
   bool fieldKinematic = false;
-  bool shadowLinear = false;       // repeat the CCD point by point, timed (shadowLinearEvery)
-  bool cpuClock = false;           // time the CCD on the thread's CPU clock (ccdClock)
-  double roleScale = 1.0;          // passed on to the result (RoleResult)
+  bool shadowLinear = false;  // repeat the CCD point by point, timed (shadowLinearEvery)
+  bool cpuClock = false;      // time the CCD on the thread's CPU clock (ccdClock)
+  double roleScale = 1.0;     // passed on to the result (RoleResult)
   bool ground = false;
 };
 

@@ -74,8 +74,7 @@ void SdfccdContactSystem::applyContactMass(BodyStep& step, double timeStep) cons
   step.body->applyTorqueImpulse(step.body->getTotalTorque() * share);
 }
 
-void SdfccdContactSystem::addContactLoad(const Record& record, double roleScale,
-                                         const PairResponseCoefficients& c) {
+void SdfccdContactSystem::addContactLoad(const Record& record, double roleScale, const PairResponseCoefficients& c) {
   if (!(c.stiffnessScale > 0.0) || !(c.totalStiffness > 0.0)) return;
   const double stiffness = roleScale * c.totalStiffness / c.stiffnessScale;  // this role's share, before the cap
   const double damping = roleScale * c.totalDamping;

@@ -157,7 +157,7 @@ void computeSolverRole(const PointTree& tree, const Field& field, const SolverRo
   // With the pair and role's history (our shell against our field) the query starts from its last front; one its
   // certificates answer alone (no contact possible) is not timed (contact_query.h, Timing).
   if (!(in.coherence && rigidCcdCertifiedClear(tree, field, in.sdfFromShellStart, in.sdfFromShellEnd, in.ccd,
-                                                *in.coherence, query.ccd))) {
+                                               *in.coherence, query.ccd))) {
     double (*const clock)() = detail::ccdClock(in.cpuClock);
     const double start = clock();
     if (in.coherence) {
@@ -272,7 +272,9 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
   }
   const BodyStep& shell = m_bodies[role.shell];
   const BodyStep& fieldBody = m_bodies[role.field];
-  SolverRoleInput in;
+  // Built in the job itself (one copy of its inputs fewer per role; runOrQueue stashes it when queueing).
+  SolverRoleJob<Field> job{role.shellTree, detail::HeldField<Field>(field), {}};
+  SolverRoleInput& in = job.input;
   in.margin = std::min(m_settings.speculativeMarginCells * cellSize, m_settings.maxSpeculativeMargin);
   // A compound child's shell and field sit at their child frames in their bodies (bodyFrom*Child).
   const Rigid bodyFromSdf = role.bodyFromFieldChild * role.bodyFromField;
@@ -302,7 +304,6 @@ void SdfccdContactSystem::collectSolverCandidates(const Role& role, const Field&
   in.ccd.threads = 1;
   in.coherence = role.coherence;
   // The work holds copies of its inputs: it may run later, on the pool (runOrQueue, parallel_step.h).
-  const SolverRoleJob<Field> job{role.shellTree, detail::HeldField<Field>(field), in};
   const auto run = [](const SolverRoleJob<Field>& j, detail::RoleResult& out) {
     computeSolverRole(*j.tree, j.field.get(), j.input, out);
   };
