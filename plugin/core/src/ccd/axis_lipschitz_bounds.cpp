@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "sdfccd/error.h"
+#include "sdfccd/field/cell_gradient_bound.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/tolerances.h"
 
@@ -21,20 +22,6 @@ float roundedUpToFloat(double v) {
   float f = static_cast<float>(v);
   if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
   return f;
-}
-
-/// Per axis, the largest edge difference of cell (i, j, k) along that axis (value units per cell).
-std::array<double, 3> cellAxisBounds(const SdfGrid& grid, int i, int j, int k) {
-  const std::vector<float>& v = grid.values();
-  const std::size_t sy = static_cast<std::size_t>(grid.nodeCounts().x());
-  const std::size_t sz = sy * static_cast<std::size_t>(grid.nodeCounts().y());
-  const std::size_t base = grid.index(i, j, k);
-  const double c[8] = {v[base],      v[base + 1],      v[base + sy],      v[base + 1 + sy],
-                       v[base + sz], v[base + 1 + sz], v[base + sy + sz], v[base + 1 + sy + sz]};
-  const auto edge = [&](int a, int b) { return std::abs(c[b] - c[a]); };
-  return {std::max(std::max(edge(0, 1), edge(2, 3)), std::max(edge(4, 5), edge(6, 7))),
-          std::max(std::max(edge(0, 2), edge(1, 3)), std::max(edge(4, 6), edge(5, 7))),
-          std::max(std::max(edge(0, 4), edge(1, 5)), std::max(edge(2, 6), edge(3, 7)))};
 }
 
 }  // namespace
