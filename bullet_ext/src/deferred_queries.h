@@ -97,7 +97,9 @@ class DeferredQueries {
 
   /// Forgets the last step's queries (keeps the result buffers).
   void clear();
-  /// Queues the query of (manifold, role); a key is planned once per step. False when a streamed batch is full.
+  /// Queues the query of (manifold, role). A key must be planned once per step (planStep walks each pair once;
+  /// a duplicate would be computed, and which copy take() returns is not fixed). False when a streamed batch is
+  /// full.
   bool add(const void* manifold, int role, Compute compute);
   std::size_t size() const { return m_jobs.size(); }
   /// Computes every query on `pool`, each into its own result.

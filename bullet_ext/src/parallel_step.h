@@ -26,7 +26,10 @@ const detail::RoleResult* SdfccdContactSystem::runOrQueue(const Role& role, bool
     if (deferrableField && role.deferrable) {
       // The inputs are stashed for the step (deferred_queries.h): the closure holds a pointer, no copy.
       const Input& kept = m_deferred->stash(input);
-      m_deferred->add(role.manifold, role.index, [&kept, run](detail::RoleResult& out) { run(kept, out); });
+      // A refused query (the batch full: not with two roles per planned pair) is computed when Bullet reaches it;
+      // its pair is then not applied as a whole (processPair's fast path).
+      if (!m_deferred->add(role.manifold, role.index, [&kept, run](detail::RoleResult& out) { run(kept, out); }))
+        m_planIncomplete.push_back(role.manifold);
     }
     return nullptr;
   }

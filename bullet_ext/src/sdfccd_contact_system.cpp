@@ -135,7 +135,8 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   if (!m_planning) resultOut->setPersistentManifold(manifold);
   // A pair computed in this step's parallel batch (every role of it: our shells against our fields or a plane)
   // applies its roles' results in role order, with no second setup (sdfccd_parallel_step.cpp).
-  if (!m_planning && !closestPointsOnly && m_deferred->pending(manifold, 0)) {
+  if (!m_planning && !closestPointsOnly && m_deferred->pending(manifold, 0) &&
+      std::find(m_planIncomplete.begin(), m_planIncomplete.end(), manifold) == m_planIncomplete.end()) {
     applyPlannedPair(wrap0, wrap1, dispatchInfo, resultOut, manifold, solver ? solverPair : nullptr);
     return;
   }

@@ -68,6 +68,7 @@ bool plannablePair(const btCollisionShape* a, const btCollisionShape* b) {
 void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
   m_plannedStep = m_stepCounter;
   m_deferred->clear();
+  m_planIncomplete.clear();
   m_convexShapes->evictIdle(m_stepCounter, kConvexCacheIdleSteps);  // once per step, before any pair
   if (m_world == nullptr || dispatchInfo.m_dispatchFunc != btDispatcherInfo::DISPATCH_DISCRETE) return;
   auto* dispatcher = dynamic_cast<btCollisionDispatcher*>(m_world->getDispatcher());

@@ -300,9 +300,12 @@ void GodObject<Field>::markUnreachablePoints(const Rigid& start, const Rigid& en
       const double phi = m_bounds.bounded && !m_bounds.box.contains(pointInSdf)
                              ? m_bounds.lipschitz * m_bounds.box.exteriorDistance(pointInSdf) + m_bounds.boundaryMin
                              : m_field->distance(pointInSdf);
-      // A relative margin against the different rounding of the segment query's own evaluation of phi.
+      // A relative margin against the different rounding of the segment query's own evaluation of phi, on the
+      // magnitudes involved: phi and sigma, and the point's coordinates (its position and phi round relative to
+      // them; far from the field's origin phi can be small beside them).
       const double clearance =
-          phi - m_settings.sigma - tolerance::kRelativeSlack * (std::abs(phi) + std::abs(m_settings.sigma));
+          phi - m_settings.sigma -
+          tolerance::kRelativeSlack * (std::abs(phi) + std::abs(m_settings.sigma) + pointInSdf.norm());
       double allowedTravel = clearance / lipschitz;
       if (!m_local.empty() && m_bounds.box.contains(pointInSdf))
         allowedTravel =

@@ -375,9 +375,10 @@ class SdfccdContactSystem : public btActionInterface {
   std::unique_ptr<detail::DeferredQueries> m_deferred;
   std::unique_ptr<detail::NarrowphasePool> m_pool;
   btCollisionWorld* m_world = nullptr;
-  bool m_planning = false;          // processPair runs to queue queries only
-  std::vector<int> m_plannedPairs;  // the step's planned pairs (indices into the overlapping pair array)
-  std::int64_t m_plannedStep = -1;  // the m_stepCounter of the last plan
+  bool m_planning = false;                    // processPair runs to queue queries only
+  std::vector<int> m_plannedPairs;            // the step's planned pairs (indices into the overlapping pair array)
+  std::vector<const void*> m_planIncomplete;  // manifolds with a role the batch refused (runOrQueue; none expected)
+  std::int64_t m_plannedStep = -1;            // the m_stepCounter of the last plan
   std::unique_ptr<detail::RoleResult> m_roleScratch;  // a role computed on the stepping thread (keeps buffers)
   std::int64_t m_stepCounter = 0;
   int m_lastContactCount = 0;

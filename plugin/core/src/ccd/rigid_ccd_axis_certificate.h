@@ -38,11 +38,18 @@ class AxisCertificates {
   AxisCertificates() = default;
   /// Takes the shared bounds of the field when the history asks for axis certificates (GridField only) and the
   /// per-pose motion of this step.
-  AxisCertificates(RigidCcdCoherence& cache, const Field& field, const Rigid& start, const Rigid& end) {
+  /// `rootReach`: the tree root's largest distance from the shell origin (every point's bound).
+  AxisCertificates(RigidCcdCoherence& cache, const Field& field, const Rigid& start, const Rigid& end,
+                   double rootReach) {
     if constexpr (std::is_same_v<Field, GridField>) {
       if (!cache.axisCertificates) return;
       if (!cache.axisBounds) cache.axisBounds = sharedAxisLipschitzBounds(field);
       m_bounds = cache.axisBounds.get();
+      // The rounding slack on the coordinates that the isotropic room keeps (roomOf: eps (|c| + root reach)), with
+      // |c| bounded by the box's farthest corner (a centre with a block lies in the box).
+      const Box3& box = m_bounds->box();
+      const Vec3 farthest = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs());
+      m_coordinates = tolerance::kRelativeSlack * (farthest.norm() + rootReach);
       // Per kept pose, the largest per-axis motion over the step's two poses: |row_a(R - R_k)| at 2k, |t_a - t_k,a|
       // at 2k + 1.
       std::vector<Vec3>& motion = cache.scratchAxisMotion;
@@ -51,7 +58,7 @@ class AxisCertificates {
         axisMotionSince(cache.poses[k], start, end, motion[2 * k], motion[2 * k + 1]);
       m_motion = motion.data();
     } else {
-      (void)cache, (void)field, (void)start, (void)end;
+      (void)cache, (void)field, (void)start, (void)end, (void)rootReach;
     }
   }
 
@@ -69,7 +76,7 @@ class AxisCertificates {
     const AxisLipschitzBounds::Block& g = m_bounds->block(e.block);
     if (!((radius + d.sum()) * tolerance::kBoundGrowth < m_bounds->reach())) return false;
     constexpr double eps = tolerance::kRelativeSlack;
-    const double margin = e.clearance - sigma - eps * (std::abs(e.clearance) + std::abs(sigma));
+    const double margin = e.clearance - sigma - eps * (std::abs(e.clearance) + std::abs(sigma)) - m_coordinates;
     const double drop = static_cast<double>(g.norm) * radius + static_cast<double>(g.x) * d.x() +
                         static_cast<double>(g.y) * d.y() + static_cast<double>(g.z) * d.z();
     return drop * tolerance::kBoundGrowth < margin * (1.0 - eps);
@@ -88,6 +95,7 @@ class AxisCertificates {
 
   const AxisLipschitzBounds* m_bounds = nullptr;
   const Vec3* m_motion = nullptr;  // the history's scratchAxisMotion
+  double m_coordinates = 0.0;      // rounding slack on the coordinates (the constructor)
 };
 
 }  // namespace detail

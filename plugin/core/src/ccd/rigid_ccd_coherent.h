@@ -124,7 +124,7 @@ class CoherentQuery {
         m_segment(rigidCcdScratch().segment) {
     m_bounds = fieldCullingBounds(field);
     prepareCache(start, end);
-    m_axis = AxisCertificates<Field>(cache, field, start, end);
+    m_axis = AxisCertificates<Field>(cache, field, start, end, m_reach[0]);
   }
 
   void run(RigidCcdResult& out) {

@@ -54,6 +54,8 @@ class AxisLipschitzBounds {
   /// Model units: how far from a point of a block its bounds hold.
   double reach() const { return m_reach; }
   int blockCells() const { return m_blockCells; }
+  /// The grid's box (field frame): every point with a block lies in it.
+  const Box3& box() const { return m_box; }
 
  private:
   Box3 m_box;
