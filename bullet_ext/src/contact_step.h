@@ -68,6 +68,7 @@ struct SdfccdContactSystem::Role {
   std::size_t field = 0;
   const PointTree* shellTree = nullptr;  // our model's tree, or a convex shape's surface points
   Rigid bodyFromField = Rigid::Identity();
+  const Rigid* modelBodyFromField = nullptr;     // the field model's own bodyFromField (lasts), when it has one
   Rigid bodyFromShellChild = Rigid::Identity();  // the shell wrapper's frame in its body (compound child)
   Rigid bodyFromFieldChild = Rigid::Identity();  // the field wrapper's frame in its body
   bool shellIsBody0 = true;

@@ -33,13 +33,36 @@ void NarrowphasePool::stopWorkers() {
   m_workers.clear();
 }
 
+namespace {
+/// A thread that finds no published task checks again this many times (a pause each, ~1 us in all) before it
+/// sleeps: the planning pass publishes every few microseconds, and a sleeping worker costs the stepping thread a
+/// futex wake-up (a system call) at the next publish.
+constexpr int kSpinChecks = 64;
+
+inline void cpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+}  // namespace
+
+void NarrowphasePool::awaitTasks(std::size_t i) {
+  for (int spin = 0; spin < kSpinChecks; ++spin) {
+    if (m_closed.load() || m_published.load() > i || m_next.load() != i) return;
+    cpuRelax();
+  }
+  std::unique_lock<std::mutex> lock(m_mutex);
+  m_sleepers.fetch_add(1);  // before the predicate's check: publish() sees it, or the check sees its count
+  m_more.wait(lock, [&] { return m_closed.load() || m_published.load() > i || m_next.load() != i; });
+  m_sleepers.fetch_sub(1);
+}
+
 void NarrowphasePool::drain(const std::function<void(std::size_t)>& task) {
   for (;;) {
     std::size_t i = m_next.load();
     if (i >= m_published.load()) {
       if (m_closed.load() && i >= m_published.load()) return;  // closed: m_published is final
-      std::unique_lock<std::mutex> lock(m_mutex);
-      m_more.wait(lock, [&] { return m_closed.load() || m_published.load() > i || m_next.load() != i; });
+      awaitTasks(i);
       continue;
     }
     if (!m_next.compare_exchange_weak(i, i + 1)) continue;  // another thread claimed it: try the next
@@ -84,10 +107,12 @@ void NarrowphasePool::begin(const std::function<void(std::size_t)>& task) {
 
 void NarrowphasePool::publish(std::size_t count) {
   if (m_workers.empty() || count <= m_published.load()) return;
-  {
-    const std::lock_guard<std::mutex> lock(m_mutex);
-    m_published = count;
-  }
+  m_published.store(count);
+  // Only a sleeper needs the lock and the wake-up. Both counters are sequentially consistent: either a worker
+  // about to sleep sees the new count in its predicate, or this sees it among the sleepers. A sleeper holds the
+  // lock from its count to its wait, so taking the lock here orders the notification after its wait began.
+  if (m_sleepers.load() == 0) return;
+  { const std::lock_guard<std::mutex> lock(m_mutex); }
   m_more.notify_all();
 }
 

@@ -49,6 +49,9 @@ class NarrowphasePool {
   void stopWorkers();  ///< stops and joins every worker (the destructor, and a constructor that fails)
   /// Claims and runs published tasks of the current batch until it is closed and none is left.
   void drain(const std::function<void(std::size_t)>& task);
+  /// Waits (spins briefly, then sleeps) until task `i` may be published, claimed by another thread, or the batch
+  /// closed; `i` is the next task to claim that this thread saw unpublished.
+  void awaitTasks(std::size_t i);
 
   int m_threads = 1;
   std::vector<std::thread> m_workers;
@@ -66,6 +69,7 @@ class NarrowphasePool {
   std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
   std::atomic<bool> m_closed{false};        // m_published is the batch's total
   std::atomic<std::size_t> m_finished{0};
+  std::atomic<int> m_sleepers{0};  // threads waiting on m_more (publish() wakes only when there are some)
 };
 
 /// The threads a `threads` setting means: the hardware's for 0 (at least 1), else the value.

@@ -102,6 +102,9 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     ~BatchScope() { queries.finish(); }
     detail::DeferredQueries& queries;
   };
+  // Queued roles point into m_bodies (penalty_role.h): planning adds at most two bodies per pair, so it does not
+  // move while the workers read it.
+  m_bodies.reserve(m_bodies.size() + 2 * planned.size());
   m_deferred->begin(*m_pool, 2 * planned.size());
   const BatchScope batch(*m_deferred);
   std::optional<PlanningScope> scope(std::in_place, m_planning);
