@@ -126,6 +126,12 @@ class DeferredQueries {
   /// The result of (manifold, role), valid until the next clear(); null when there is none, or it was taken
   /// already. Rethrows what the query threw, where the serial narrowphase would have thrown it.
   const RoleResult* take(const void* manifold, int role);
+  /// Is the query after the last one taken another role of `manifold`? A pair's roles are queued one after the
+  /// other, so a caller taking them in order stops here without looking up a role that is not there (a miss costs
+  /// a hashed lookup, and the first of a step builds the hashed index).
+  bool nextIsOf(const void* manifold) const {
+    return m_cursor < m_jobs.size() && m_jobs[m_cursor].key.manifold == manifold;
+  }
   /// Was (manifold, role) planned this step, and not taken yet?
   bool pending(const void* manifold, int role);
 

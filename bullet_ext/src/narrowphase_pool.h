@@ -62,13 +62,14 @@ class NarrowphasePool {
   // The batch, under m_mutex (the counters are atomic: claimed and finished outside it).
   const std::function<void(std::size_t)>* m_task = nullptr;
   std::uint64_t m_generation = 0;
-  bool m_accepting = false;  // a worker that wakes after its batch ended must not join it
-  int m_active = 0;          // workers inside the current batch
+  bool m_accepting = false;      // a worker that wakes after its batch ended must not join it
+  std::atomic<int> m_active{0};  // workers inside the current batch (changed under m_mutex; close() spins on it)
   bool m_stop = false;
-  std::atomic<std::size_t> m_next{0};       // the next task to claim
-  std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
-  std::atomic<bool> m_closed{false};        // m_published is the batch's total
+  // What the claiming threads write on every task, apart from what the publisher writes (false sharing).
+  alignas(64) std::atomic<std::size_t> m_next{0};  // the next task to claim
   std::atomic<std::size_t> m_finished{0};
+  alignas(64) std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
+  std::atomic<bool> m_closed{false};                    // m_published is the batch's total
   std::atomic<int> m_sleepers{0};  // threads waiting on m_more (publish() wakes only when there are some)
 };
 

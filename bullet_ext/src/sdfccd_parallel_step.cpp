@@ -145,6 +145,7 @@ void SdfccdContactSystem::applyPlannedPair(const btCollisionObjectWrapper* wrap0
     } else {
       applyPenaltyRole(*result, resultOut, false);
     }
+    if (!m_deferred->nextIsOf(manifold)) break;  // the pair's last role
   }
   if (solverPair == nullptr) return;
   const bool swapped = manifold->getBody0() != wrap0->getCollisionObject();
