@@ -36,10 +36,10 @@ void NarrowphasePool::stopWorkers() {
 }
 
 namespace {
-/// A thread that finds no published task checks again this many times (a pause each, ~1 us in all) before it
-/// sleeps: the planning pass publishes every few microseconds, and a sleeping worker costs the stepping thread a
-/// futex wake-up (a system call) at the next publish.
-constexpr int kSpinChecks = 64;
+/// How long a thread that finds no published task spins before it sleeps: the planning pass publishes every
+/// microsecond or so (a few hundred microseconds in all), and a sleeping worker costs the stepping thread a futex
+/// wake-up (a system call and an interrupt to the other core) at the next publish.
+constexpr std::chrono::microseconds kPublishSpin{50};
 /// How long close() spins for the workers' last tasks before it sleeps.
 constexpr std::chrono::microseconds kDoneSpin{20};
 
@@ -51,9 +51,11 @@ inline void cpuRelax() {
 }  // namespace
 
 void NarrowphasePool::awaitTasks(std::size_t i) {
-  for (int spin = 0; spin < kSpinChecks; ++spin) {
+  const auto spinEnd = std::chrono::steady_clock::now() + kPublishSpin;
+  for (int spin = 1;; ++spin) {
     if (m_closed.load() || m_published.load() > i || m_next.load() != i) return;
     cpuRelax();
+    if (spin % 32 == 0 && std::chrono::steady_clock::now() > spinEnd) break;
   }
   std::unique_lock<std::mutex> lock(m_mutex);
   m_sleepers.fetch_add(1);  // before the predicate's check: publish() sees it, or the check sees its count

@@ -84,15 +84,25 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   // (a hashed lookup misses the cache three times; an 80-body pile looks up ~2,000 slots per step).
   const SlotKey key{manifold, role};
   AnchorSlot* slot = nullptr;
-  if (m_slotCursor < m_lastSlotOrder.size() && m_lastSlotOrder[m_slotCursor].first == key) {
-    slot = m_lastSlotOrder[m_slotCursor].second;
+  if (m_slotCursor < m_lastSlotOrder.size() && m_lastSlotOrder[m_slotCursor].key == key) {
+    const SlotVisit& last = m_lastSlotOrder[m_slotCursor];
+    slot = last.slot;
+    if (last.step + 1 == m_stepCounter && last.shellObject == shell && last.fieldObject == field) {
+      // Met at this place of last step's walk, with the same objects: it keeps its table and history. Decided from
+      // the walk's own (sequential) record: the slot is only written here, and its cache line is often cold.
+      ++m_slotCursor;
+      slot->lastStep = m_stepCounter;
+      slot->order = m_slotOrder.size();
+      m_slotOrder.push_back(SlotVisit{key, slot, shell, field, m_stepCounter});
+      return *slot;
+    }
   } else {
     std::unique_ptr<AnchorSlot>& owned = m_anchorSlots[key];
     if (!owned) owned = std::make_unique<AnchorSlot>();
     slot = owned.get();
   }
   if (slot->lastStep + 1 >= m_stepCounter && slot->order < m_lastSlotOrder.size() &&
-      m_lastSlotOrder[slot->order].second == slot) {
+      m_lastSlotOrder[slot->order].slot == slot) {
     m_slotCursor = slot->order + 1;  // found where last step's walk had it: go on from there
   }
   if (slot->shellObject != shell || slot->fieldObject != field || slot->lastStep + 1 < m_stepCounter) {
@@ -104,7 +114,7 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   if (slot->lastStep != m_stepCounter) {  // this step's walk, for the next step's guesses
     slot->lastStep = m_stepCounter;
     slot->order = m_slotOrder.size();
-    m_slotOrder.emplace_back(key, slot);
+    m_slotOrder.push_back(SlotVisit{key, slot, shell, field, m_stepCounter});
   }
   return *slot;
 }

@@ -370,7 +370,14 @@ class SdfccdContactSystem : public btActionInterface {
   };
   // The slots (an 80-body pile has ~2,000), and the order in which this and the last step's walk met them.
   std::unordered_map<SlotKey, std::unique_ptr<AnchorSlot>, SlotKeyHash> m_anchorSlots;
-  std::vector<std::pair<SlotKey, AnchorSlot*>> m_slotOrder, m_lastSlotOrder;
+  struct SlotVisit {  // one slot met in a step's walk (anchorSlot): its key, slot, objects and step
+    SlotKey key;
+    AnchorSlot* slot;
+    const btCollisionObject* shellObject;
+    const btCollisionObject* fieldObject;
+    std::int64_t step;
+  };
+  std::vector<SlotVisit> m_slotOrder, m_lastSlotOrder;
   std::size_t m_slotCursor = 0;
   std::vector<SdfccdPairContact> m_lastContacts;
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
