@@ -6,7 +6,9 @@
 /// step, and one algorithm processes its pair once per step. A query's closure holds copies of everything it
 /// reads that Bullet or the narrowphase might change (poses, velocities, settings) and pointers only to what
 /// stays put during the step (the model's tree and field, the pair and role's anchor table and CCD history,
-/// which only this query touches). Results are kept across steps so their buffers are reused.
+/// which only this query touches; penalty mode also the bodies' predicted motions in SdfccdContactSystem::m_bodies,
+/// which planning reserves and nothing writes during the batch, and the world's settings). Results are kept across
+/// steps so their buffers are reused.
 #pragma once
 
 #include <cstddef>
