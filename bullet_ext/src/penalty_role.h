@@ -2,7 +2,8 @@
 /// @brief Penalty mode, one role's work that touches no Bullet object: the query (queryContacts), the manifold
 /// points, the role's record and its time-of-impact clamp (Section 4.1 and 5). It runs on the narrowphase pool in a
 /// planned step (sdfccd_parallel_step.cpp) or on the stepping thread; SdfccdContactSystem::applyPenaltyRole then
-/// applies it. A free function over copied inputs, so nothing it reads can change under it.
+/// applies it. A free function over its input, built (fillPenaltyInput) from what stays put through the step (the
+/// bodies' predicted motions, the models, the settings), so nothing it reads can change under it.
 #pragma once
 
 #include <algorithm>

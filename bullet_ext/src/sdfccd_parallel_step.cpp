@@ -12,7 +12,8 @@
 ///    (needsCollision, our contacts algorithm, its solver pair made) runs through processPair in planning mode:
 ///    each body's motion over the step is predicted (bodyStep, from the state before any impulse of this step),
 ///    each role that may be deferred (our shell against our grid field or a plane) queues its query with copies of
-///    its inputs; nothing else changes (no manifold, record, statistic or impulse);
+///    what is its own and pointers to what stays put through the step (penalty_role.h: the job builds its input);
+///    nothing else changes (no manifold, record, statistic or impulse);
 /// 2. the queue runs on the persistent pool (narrowphase_pool.h), each query into its own result;
 /// 3. Bullet goes on processing its pairs in its order; each of our roles takes its planned result instead of
 ///    computing it, and everything after the CCD (manifold points, records, clamps, impulses) runs as before.
