@@ -68,6 +68,7 @@ struct SdfccdContactSystem::Role {
   std::size_t field = 0;
   const PointTree* shellTree = nullptr;  // our model's tree, or a convex shape's surface points
   Rigid bodyFromField = Rigid::Identity();
+  const Rigid* modelBodyFromField = nullptr;     // the field model's own bodyFromField (lasts), when it has one
   Rigid bodyFromShellChild = Rigid::Identity();  // the shell wrapper's frame in its body (compound child)
   Rigid bodyFromFieldChild = Rigid::Identity();  // the field wrapper's frame in its body
   bool shellIsBody0 = true;
@@ -84,12 +85,15 @@ struct SdfccdContactSystem::Role {
 
 /// The friction anchors of one pair and role, kept across steps (design 2.4), keyed by the pair's manifold.
 struct SdfccdContactSystem::AnchorSlot {
-  FrictionAnchorTable table;
-  RigidCcdCoherence coherence;  // the CCD's last front (rigid_ccd_coherence.h): exact whatever it holds
+  // The stepping thread's bookkeeping (anchorSlot(), every step while planning)...
   const btCollisionObject* shellObject = nullptr;  // a reused manifold with other objects starts afresh
   const btCollisionObject* fieldObject = nullptr;
   std::int64_t lastStep = -1;  // dropped when a step passes without its pair
   std::size_t order = 0;       // its index in the walk of step lastStep (SdfccdContactSystem::anchorSlot)
+  // ...and what the role's query writes, on whichever thread runs it: on cache lines of their own, so that planning
+  // does not wait for lines the other core wrote last step.
+  alignas(64) FrictionAnchorTable table;
+  RigidCcdCoherence coherence;  // the CCD's last front (rigid_ccd_coherence.h): exact whatever it holds
 };
 
 }  // namespace sdfccd

@@ -19,6 +19,7 @@ void DeferredQueries::clear() {
     if (arena) arena->used = 0;
   }
   m_jobs.clear();
+  ++m_generation;  // the outcomes are not reset one by one (their cache lines are the workers')
   m_index.clear();
   m_indexed = false;
   m_cursor = 0;
@@ -31,10 +32,18 @@ constexpr std::size_t kPublishGroup = 8;
 
 bool DeferredQueries::add(const void* manifold, int role, Compute compute) {
   if (m_streaming != nullptr && m_jobs.size() >= m_capacity) return false;
-  Job job;
+  Compute& kept = slot<Compute>();
+  kept = std::move(compute);
+  return add(
+      manifold, role, [](const void* data, RoleResult& out) { (*static_cast<const Compute*>(data))(out); }, &kept);
+}
+
+bool DeferredQueries::add(const void* manifold, int role, Run run, const void* data) {
+  if (m_streaming != nullptr && m_jobs.size() >= m_capacity) return false;
+  Job& job = m_jobs.emplace_back();
   job.key = Key{manifold, role};
-  job.compute = std::move(compute);
-  m_jobs.push_back(std::move(job));
+  job.run = run;
+  job.data = data;
   if (m_results.size() < m_jobs.size()) m_results.resize(m_jobs.size());
   m_indexed = false;
   if (m_streaming != nullptr && m_jobs.size() % kPublishGroup == 0) m_streaming->publish(m_jobs.size());
@@ -47,12 +56,15 @@ void DeferredQueries::begin(NarrowphasePool& pool, std::size_t capacity) {
   if (m_results.size() < capacity) m_results.resize(capacity);
   m_capacity = capacity;
   m_task = [this](std::size_t i) {
+    const Job& job = m_jobs[i];
+    Outcome& outcome = m_results[i];
     try {
-      m_jobs[i].compute(m_results[i]);
+      job.run(job.data, outcome.result);
+      outcome.error = nullptr;
     } catch (...) {
-      m_jobs[i].error = std::current_exception();  // an exception must not leave a worker thread
+      outcome.error = std::current_exception();  // an exception must not leave a worker thread
     }
-    m_jobs[i].done = true;
+    outcome.generation = m_generation;
   };
   m_streaming = &pool;
   pool.begin(m_task);
@@ -90,11 +102,12 @@ const RoleResult* DeferredQueries::take(const void* manifold, int role) {
   const std::ptrdiff_t i = find(Key{manifold, role});
   if (i < 0) return nullptr;
   Job& job = m_jobs[static_cast<std::size_t>(i)];
-  if (!job.done || job.taken) return nullptr;
+  Outcome& outcome = m_results[static_cast<std::size_t>(i)];
+  if (outcome.generation != m_generation || job.taken) return nullptr;  // not computed (yet), or taken
   job.taken = true;
   m_cursor = static_cast<std::size_t>(i) + 1;
-  if (job.error) std::rethrow_exception(job.error);
-  return &m_results[static_cast<std::size_t>(i)];
+  if (outcome.error) std::rethrow_exception(outcome.error);
+  return &outcome.result;
 }
 
 }  // namespace sdfccd::detail

@@ -6,7 +6,9 @@
 /// step, and one algorithm processes its pair once per step. A query's closure holds copies of everything it
 /// reads that Bullet or the narrowphase might change (poses, velocities, settings) and pointers only to what
 /// stays put during the step (the model's tree and field, the pair and role's anchor table and CCD history,
-/// which only this query touches). Results are kept across steps so their buffers are reused.
+/// which only this query touches; penalty mode also the bodies' predicted motions in SdfccdContactSystem::m_bodies,
+/// which planning reserves and nothing writes during the batch, and the world's settings). Results are kept across
+/// steps so their buffers are reused.
 #pragma once
 
 #include <cstddef>
@@ -37,12 +39,14 @@ constexpr bool kDeferrableField = std::is_same_v<Field, GridField> || std::is_sa
 /// What a deferred query keeps of its field.
 template <class Field>
 struct HeldField {
+  HeldField() = default;  // null until assigned (DeferredQueries::slot)
   explicit HeldField(const Field& field) : pointer(&field) {}
   const Field& get() const { return *pointer; }
-  const Field* pointer;
+  const Field* pointer = nullptr;
 };
 template <>
 struct HeldField<PlaneField> {
+  HeldField() : value(PlaneField::ground()) {}  // a placeholder until assigned (DeferredQueries::slot)
   explicit HeldField(const PlaneField& field) : value(field) {}
   const PlaneField& get() const { return value; }
   PlaneField value;
@@ -77,10 +81,17 @@ class DeferredQueries {
   DeferredQueries(const DeferredQueries&) = delete;
   DeferredQueries& operator=(const DeferredQueries&) = delete;
 
-  /// A copy of `data` kept until the next clear(), at an address that does not change meanwhile: a queued
-  /// closure holds a pointer to it instead of a copy of its inputs, so queueing allocates nothing (a closure of
-  /// more than two pointers is copied to the heap by std::function; a role's inputs are about 1.3 KB). The copies'
-  /// storage is reused from step to step.
+  /// An object of type Data kept until the next clear(), at an address that does not change meanwhile: a queued
+  /// query holds a pointer to it instead of a copy of its inputs. The caller fills it in place (it holds whatever
+  /// the last step left there: every field must be written), so queueing copies nothing twice and allocates
+  /// nothing once the step's storage is there (it is reused from step to step).
+  template <class Data>
+  Data& slot() {
+    Arena<Data>& arena = arenaOf<Data>();
+    if (arena.used == arena.items.size()) arena.items.push_back(std::make_unique<Data>());
+    return *arena.items[arena.used++];
+  }
+  /// A copy of `data` kept the same way (Data need not be default-constructible).
   template <class Data>
   const Data& stash(const Data& data) {
     Arena<Data>& arena = arenaOf<Data>();
@@ -94,6 +105,8 @@ class DeferredQueries {
 
   /// Writes one role's work (penalty_role.h; solver mode: solver_contacts.cpp).
   using Compute = std::function<void(RoleResult&)>;
+  /// The same as a plain function of a slot(): `run(data, out)` (no std::function to build and move per query).
+  using Run = void (*)(const void* data, RoleResult& out);
 
   /// Forgets the last step's queries (keeps the result buffers).
   void clear();
@@ -101,6 +114,8 @@ class DeferredQueries {
   /// a duplicate would be computed, and which copy take() returns is not fixed). False when a streamed batch is
   /// full.
   bool add(const void* manifold, int role, Compute compute);
+  /// The same with the work as run(data, out); `data` must stay put until the next clear() (a slot()).
+  bool add(const void* manifold, int role, Run run, const void* data);
   std::size_t size() const { return m_jobs.size(); }
   /// Computes every query on `pool`, each into its own result.
   void runAll(NarrowphasePool& pool);
@@ -113,6 +128,12 @@ class DeferredQueries {
   /// The result of (manifold, role), valid until the next clear(); null when there is none, or it was taken
   /// already. Rethrows what the query threw, where the serial narrowphase would have thrown it.
   const RoleResult* take(const void* manifold, int role);
+  /// Is the query after the last one taken another role of `manifold`? A pair's roles are queued one after the
+  /// other, so a caller taking them in order stops here without looking up a role that is not there (a miss costs
+  /// a hashed lookup, and the first of a step builds the hashed index).
+  bool nextIsOf(const void* manifold) const {
+    return m_cursor < m_jobs.size() && m_jobs[m_cursor].key.manifold == manifold;
+  }
   /// Was (manifold, role) planned this step, and not taken yet?
   bool pending(const void* manifold, int role);
 
@@ -127,12 +148,18 @@ class DeferredQueries {
       return std::hash<const void*>()(k.manifold) ^ (static_cast<std::size_t>(k.role) * 0x9e3779b97f4a7c15ull);
     }
   };
+  /// What the stepping thread writes per query (the workers only read it)...
   struct Job {
     Key key;
-    Compute compute;
-    std::exception_ptr error;  // thrown on a worker: rethrown by take() on the stepping thread
-    bool done = false;
+    Run run = nullptr;
+    const void* data = nullptr;
     bool taken = false;
+  };
+  /// ...and what a worker writes: kept apart, so neither thread writes the other's cache lines.
+  struct Outcome {
+    RoleResult result;
+    std::exception_ptr error;      // thrown on a worker: rethrown by take() on the stepping thread
+    std::uint64_t generation = 0;  // the m_generation of the batch that computed it (stale otherwise)
   };
   struct ArenaBase {
     virtual ~ArenaBase() = default;
@@ -156,7 +183,8 @@ class DeferredQueries {
   NarrowphasePool* m_streaming = nullptr;  // the pool of an open streamed batch
   std::size_t m_capacity = 0;
   std::function<void(std::size_t)> m_task;  // the batch's task (outlives it)
-  std::vector<RoleResult> m_results;        // m_results[i] belongs to m_jobs[i]; kept across steps (their buffers)
+  std::vector<Outcome> m_results;           // m_results[i] belongs to m_jobs[i]; kept across steps (their buffers)
+  std::uint64_t m_generation = 1;           // advanced by clear(): last step's outcomes are stale
   /// The job of `key`, or -1. Bullet takes the pairs in the order the plan walked them (its pair array), so the
   /// job after the last one found is tried first; the hashed index is built only when that guess fails.
   std::ptrdiff_t find(const Key& key);

@@ -49,6 +49,9 @@ class NarrowphasePool {
   void stopWorkers();  ///< stops and joins every worker (the destructor, and a constructor that fails)
   /// Claims and runs published tasks of the current batch until it is closed and none is left.
   void drain(const std::function<void(std::size_t)>& task);
+  /// Waits (spins briefly, then sleeps) until task `i` may be published, claimed by another thread, or the batch
+  /// closed; `i` is the next task to claim that this thread saw unpublished.
+  void awaitTasks(std::size_t i);
 
   int m_threads = 1;
   std::vector<std::thread> m_workers;
@@ -59,13 +62,15 @@ class NarrowphasePool {
   // The batch, under m_mutex (the counters are atomic: claimed and finished outside it).
   const std::function<void(std::size_t)>* m_task = nullptr;
   std::uint64_t m_generation = 0;
-  bool m_accepting = false;  // a worker that wakes after its batch ended must not join it
-  int m_active = 0;          // workers inside the current batch
+  bool m_accepting = false;      // a worker that wakes after its batch ended must not join it
+  std::atomic<int> m_active{0};  // workers inside the current batch (changed under m_mutex; close() spins on it)
   bool m_stop = false;
-  std::atomic<std::size_t> m_next{0};       // the next task to claim
-  std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
-  std::atomic<bool> m_closed{false};        // m_published is the batch's total
+  // What the claiming threads write on every task, apart from what the publisher writes (false sharing).
+  alignas(64) std::atomic<std::size_t> m_next{0};  // the next task to claim
   std::atomic<std::size_t> m_finished{0};
+  alignas(64) std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
+  std::atomic<bool> m_closed{false};                    // m_published is the batch's total
+  std::atomic<int> m_sleepers{0};  // threads waiting on m_more (publish() wakes only when there are some)
 };
 
 /// The threads a `threads` setting means: the hardware's for 0 (at least 1), else the value.

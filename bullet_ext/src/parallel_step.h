@@ -1,6 +1,7 @@
 /// @file
-/// @brief SdfccdContactSystem::takePlanned and runOrQueue, shared by penalty mode (sdfccd_contact_system.cpp) and
-/// solver mode (solver_contacts.cpp): where one role's work runs in a planned step (sdfccd_parallel_step.cpp).
+/// @brief SdfccdContactSystem::takePlanned, shared by penalty mode (sdfccd_contact_system.cpp) and solver mode
+/// (solver_contacts.cpp), and runOrQueue, solver mode's (penalty mode queues a smaller plan: queuePenaltyRole): where
+/// one role's work runs in a planned step (sdfccd_parallel_step.cpp).
 #pragma once
 
 #include <memory>

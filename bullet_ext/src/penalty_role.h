@@ -2,7 +2,8 @@
 /// @brief Penalty mode, one role's work that touches no Bullet object: the query (queryContacts), the manifold
 /// points, the role's record and its time-of-impact clamp (Section 4.1 and 5). It runs on the narrowphase pool in a
 /// planned step (sdfccd_parallel_step.cpp) or on the stepping thread; SdfccdContactSystem::applyPenaltyRole then
-/// applies it. A free function over copied inputs, so nothing it reads can change under it.
+/// applies it. A free function over its input, built (fillPenaltyInput) from what stays put through the step (the
+/// bodies' predicted motions, the models, the settings), so nothing it reads can change under it.
 #pragma once
 
 #include <algorithm>
@@ -56,13 +57,103 @@ struct PenaltyRoleInput {
   bool ground = false;
 };
 
-/// A penalty role's work as queued: the shell's tree, the field (HeldField: by address or by value), the inputs.
-template <class Field>
-struct PenaltyRoleJob {
-  const PointTree* tree;
-  HeldField<Field> field;
-  PenaltyRoleInput input;
+/// What a penalty role's input is built from (fillPenaltyInput): pointers to what stays put through the step, and
+/// the role's own scalars. `Body` is SdfccdContactSystem::BodyStep (private there, hence the template).
+template <class Body>
+struct PenaltyRoleFacts {
+  const Body* shell = nullptr;  // the bodies' motions over the step
+  const Body* fieldBody = nullptr;
+  const Rigid* bodyFromShellChild = nullptr;  // the wrappers' frames in their bodies (compound children)
+  const Rigid* bodyFromFieldChild = nullptr;
+  const Rigid* bodyFromField = nullptr;      // the field's frame in its body
+  const PenaltySettings* penalty = nullptr;  // the pair's penalty parameters (per-body overrides combined)
+  FrictionAnchorTable* anchors = nullptr;    // this pair and role's, kept across steps (may be null)
+  RigidCcdCoherence* coherence = nullptr;
+  std::size_t shellIndex = 0;  // body indices, for the record
+  std::size_t fieldIndex = 0;
+  double timeStep = 0.0;
+  double cellSize = 0.0;
+  double thresholdCells = 0.0;
+  double roleScale = 1.0;
+  double friction = 0.0;
+  double dampingRatio = -1.0;
+  OctreeMode octree = OctreeMode::Full;
+  int maxManifoldPoints = 0;
+  bool useTree = true;
+  bool shellIsBody0 = true;
+  bool closestPointsOnly = false;
+  bool discreteModel = false;  // the settings' penalty model is the discrete one
+  bool timeOfImpactClamp = false;
+  bool shadowLinear = false;
+  bool cpuClock = false;
+  bool ground = false;
 };
+
+/// A planned penalty role as queued (~200 bytes; its input, ~1.3 KB, is built by the job on whichever thread runs
+/// it: copying that much per role into memory the other core read last step stalled the planning pass).
+template <class Field, class Body>
+struct PenaltyRolePlan {
+  const PointTree* tree = nullptr;
+  HeldField<Field> field;
+  PenaltyRoleFacts<Body> facts;
+};
+
+/// The role's input from its facts (the frames as queryContacts wants them: see contact_query.h).
+template <class Body>
+void fillPenaltyInput(const PenaltyRoleFacts<Body>& f, PenaltyRoleInput& in) {
+  const Body& shell = *f.shell;
+  const Body& fieldBody = *f.fieldBody;
+  in.discrete = f.closestPointsOnly || f.discreteModel;
+  // The frame contract of queryContacts (contact_query.h): the shell's points live in its body frame (whose
+  // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
+  // looks at the current poses: nothing moves.
+  // A compound child's frame sits at bodyFromChild in its body; handles go from the body's centre of mass.
+  ShellMotion& shellMotion = in.shellMotion;
+  shellMotion.worldFromShellStart = shell.worldFromBodyStart * *f.bodyFromShellChild;
+  shellMotion.worldFromShellEnd =
+      f.closestPointsOnly ? shellMotion.worldFromShellStart : Rigid(shell.worldFromBodyEnd * *f.bodyFromShellChild);
+  shellMotion.centerOfMassInShell = f.bodyFromShellChild->inverse().translation();
+  shellMotion.velocity = shell.velocity;
+  shellMotion.mass = shell.mass;
+  const Rigid bodyFromSdf = *f.bodyFromFieldChild * *f.bodyFromField;
+  FieldMotion& fieldMotion = in.fieldMotion;
+  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
+  fieldMotion.worldFromSdfEnd =
+      f.closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * bodyFromSdf);
+  fieldMotion.centerOfMassInSdf = bodyFromSdf.inverse().translation();
+  fieldMotion.velocity = fieldBody.velocity;
+  fieldMotion.mass = fieldBody.mass;
+
+  ContactQuerySettings& query = in.query;
+  query.penalty = *f.penalty;
+  if (in.discrete) query.penalty.model = PenaltyModel::Discrete;
+  query.penalty.roleScale = f.roleScale;
+  query.penalty.friction = f.friction;
+  query.penalty.dampingRatio = f.dampingRatio;
+  query.cellSize = f.cellSize;
+  query.anchors = f.anchors;
+  query.coherence = f.coherence;
+  query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose
+  query.octree = f.octree;
+  query.useTree = f.useTree;
+  query.threads = 1;
+  query.integratePenalty = !f.closestPointsOnly;
+  in.timeStep = f.timeStep;
+  in.cellSize = f.cellSize;
+  in.thresholdCells = f.thresholdCells;
+  in.shell = f.shellIndex;
+  in.field = f.fieldIndex;
+  in.shellIsBody0 = f.shellIsBody0;
+  in.closestPointsOnly = f.closestPointsOnly;
+  in.timeOfImpactClamp = f.timeOfImpactClamp;
+  in.maxManifoldPoints = f.maxManifoldPoints;
+  in.shellKinematic = shell.kinematic;
+  in.fieldKinematic = fieldBody.kinematic;
+  in.shadowLinear = f.shadowLinear;
+  in.cpuClock = f.cpuClock;
+  in.roleScale = f.roleScale;
+  in.ground = f.ground;
+}
 
 /// The role's work into `out` (see the file comment).
 template <class Field>

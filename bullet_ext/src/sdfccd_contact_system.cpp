@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <type_traits>
 
@@ -83,15 +84,25 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   // (a hashed lookup misses the cache three times; an 80-body pile looks up ~2,000 slots per step).
   const SlotKey key{manifold, role};
   AnchorSlot* slot = nullptr;
-  if (m_slotCursor < m_lastSlotOrder.size() && m_lastSlotOrder[m_slotCursor].first == key) {
-    slot = m_lastSlotOrder[m_slotCursor].second;
+  if (m_slotCursor < m_lastSlotOrder.size() && m_lastSlotOrder[m_slotCursor].key == key) {
+    const SlotVisit& last = m_lastSlotOrder[m_slotCursor];
+    slot = last.slot;
+    if (last.step + 1 == m_stepCounter && last.shellObject == shell && last.fieldObject == field) {
+      // Met at this place of last step's walk, with the same objects: it keeps its table and history. Decided from
+      // the walk's own (sequential) record: the slot is only written here, and its cache line is often cold.
+      ++m_slotCursor;
+      slot->lastStep = m_stepCounter;
+      slot->order = m_slotOrder.size();
+      m_slotOrder.push_back(SlotVisit{key, slot, shell, field, m_stepCounter});
+      return *slot;
+    }
   } else {
     std::unique_ptr<AnchorSlot>& owned = m_anchorSlots[key];
     if (!owned) owned = std::make_unique<AnchorSlot>();
     slot = owned.get();
   }
   if (slot->lastStep + 1 >= m_stepCounter && slot->order < m_lastSlotOrder.size() &&
-      m_lastSlotOrder[slot->order].second == slot) {
+      m_lastSlotOrder[slot->order].slot == slot) {
     m_slotCursor = slot->order + 1;  // found where last step's walk had it: go on from there
   }
   if (slot->shellObject != shell || slot->fieldObject != field || slot->lastStep + 1 < m_stepCounter) {
@@ -103,7 +114,7 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   if (slot->lastStep != m_stepCounter) {  // this step's walk, for the next step's guesses
     slot->lastStep = m_stepCounter;
     slot->order = m_slotOrder.size();
-    m_slotOrder.emplace_back(key, slot);
+    m_slotOrder.push_back(SlotVisit{key, slot, shell, field, m_stepCounter});
   }
   return *slot;
 }
@@ -243,6 +254,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     if (isSdfccdShape(fieldShape)) {
       const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
+      role.modelBodyFromField = &fieldModel.bodyFromField();
       if (isSdfccdShape(shellShape)) {
         role.shellTree = &static_cast<const SdfccdShape*>(shellShape)->model().tree();
       } else {
@@ -305,70 +317,82 @@ void SdfccdContactSystem::processRole(const Role& role, const Field& field, doub
     applyPenaltyRole(*planned, resultOut, closestPointsOnly);
     return;
   }
-  const BodyStep& shell = m_bodies[role.shell];
-  const BodyStep& fieldBody = m_bodies[role.field];
-  // Built in the job itself (one copy of its ~1.3 KB fewer per role; runOrQueue stashes it when queueing).
-  detail::PenaltyRoleJob<Field> job{role.shellTree, detail::HeldField<Field>(field), {}};
-  detail::PenaltyRoleInput& in = job.input;
-  in.discrete = closestPointsOnly || m_settings.penalty.model == PenaltyModel::Discrete;
-
-  // The frame contract of queryContacts (contact_query.h): the shell's points live in its body frame (whose
-  // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
-  // looks at the current poses: nothing moves.
-  // A compound child's frame sits at bodyFromChild in its body; handles go from the body's centre of mass.
-  ShellMotion& shellMotion = in.shellMotion;
-  shellMotion.worldFromShellStart = shell.worldFromBodyStart * role.bodyFromShellChild;
-  shellMotion.worldFromShellEnd =
-      closestPointsOnly ? shellMotion.worldFromShellStart : Rigid(shell.worldFromBodyEnd * role.bodyFromShellChild);
-  shellMotion.centerOfMassInShell = role.bodyFromShellChild.inverse().translation();
-  shellMotion.velocity = shell.velocity;
-  shellMotion.mass = shell.mass;
-  const Rigid bodyFromSdf = role.bodyFromFieldChild * role.bodyFromField;
-  FieldMotion& fieldMotion = in.fieldMotion;
-  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
-  fieldMotion.worldFromSdfEnd =
-      closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * bodyFromSdf);
-  fieldMotion.centerOfMassInSdf = bodyFromSdf.inverse().translation();
-  fieldMotion.velocity = fieldBody.velocity;
-  fieldMotion.mass = fieldBody.mass;
-
-  ContactQuerySettings& query = in.query;
-  query.penalty = role.penalty != nullptr ? *role.penalty : m_settings.penalty;
-  if (in.discrete) query.penalty.model = PenaltyModel::Discrete;
-  query.penalty.roleScale = role.roleScale;
-  query.penalty.friction = role.friction;
-  query.penalty.dampingRatio = role.dampingRatio;
-  query.cellSize = cellSize;
-  query.anchors = role.anchors;
-  query.coherence = role.coherence;
-  query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose
-  query.octree = m_settings.octree;
-  query.useTree = m_settings.useTree;
-  query.threads = 1;
-  query.integratePenalty = !closestPointsOnly;
-  in.timeStep = timeStep;
-  in.cellSize = cellSize;
-  in.thresholdCells = thresholdCells;
-  in.shell = role.shell;
-  in.field = role.field;
-  in.shellIsBody0 = role.shellIsBody0;
-  in.closestPointsOnly = closestPointsOnly;
-  in.timeOfImpactClamp = m_settings.timeOfImpactClamp;
-  in.maxManifoldPoints = m_settings.maxManifoldPoints;
-  in.shellKinematic = shell.kinematic;
-  in.fieldKinematic = fieldBody.kinematic;
-  in.shadowLinear = !closestPointsOnly && m_settings.shadowLinearEvery > 0 &&
-                    m_stepCounter % m_settings.shadowLinearEvery == 0 && !ground;
-  in.cpuClock = m_settings.shadowLinearEvery > 0;
-  in.roleScale = role.roleScale;
-  in.ground = ground;
-  // The work holds copies of its inputs: it may run later, on the pool (runOrQueue, parallel_step.h).
-  const auto run = [](const detail::PenaltyRoleJob<Field>& j, detail::RoleResult& out) {
-    detail::computePenaltyRole(*j.tree, j.field.get(), j.input, out);
-  };
-  if (const detail::RoleResult* result = runOrQueue(role, detail::kDeferrableField<Field>, job, run)) {
-    applyPenaltyRole(*result, resultOut, closestPointsOnly);
+  // What the role's input is built from. A planned role keeps pointers to what stays put through the step only:
+  // the bodies' motions (m_bodies is not resized during the batch: planStep reserves it), the models' frames, the
+  // world's settings, and copies in the batch's slots of what is the role's own.
+  detail::PenaltyRoleFacts<BodyStep> facts;
+  facts.shell = &m_bodies[role.shell];
+  facts.fieldBody = &m_bodies[role.field];
+  facts.bodyFromShellChild = &role.bodyFromShellChild;
+  facts.bodyFromFieldChild = &role.bodyFromFieldChild;
+  facts.bodyFromField = &role.bodyFromField;
+  facts.penalty = role.penalty != nullptr ? role.penalty : &m_settings.penalty;
+  facts.anchors = role.anchors;
+  facts.coherence = role.coherence;
+  facts.shellIndex = role.shell;
+  facts.fieldIndex = role.field;
+  facts.timeStep = timeStep;
+  facts.cellSize = cellSize;
+  facts.thresholdCells = thresholdCells;
+  facts.roleScale = role.roleScale;
+  facts.friction = role.friction;
+  facts.dampingRatio = role.dampingRatio;
+  facts.octree = m_settings.octree;
+  facts.maxManifoldPoints = m_settings.maxManifoldPoints;
+  facts.useTree = m_settings.useTree;
+  facts.shellIsBody0 = role.shellIsBody0;
+  facts.closestPointsOnly = closestPointsOnly;
+  facts.discreteModel = m_settings.penalty.model == PenaltyModel::Discrete;
+  facts.timeOfImpactClamp = m_settings.timeOfImpactClamp;
+  facts.shadowLinear = !closestPointsOnly && m_settings.shadowLinearEvery > 0 &&
+                       m_stepCounter % m_settings.shadowLinearEvery == 0 && !ground;
+  facts.cpuClock = m_settings.shadowLinearEvery > 0;
+  facts.ground = ground;
+  if (m_planning) {
+    if constexpr (detail::kDeferrableField<Field>) {
+      if (role.deferrable) queuePenaltyRole(role, field, facts);
+    }
+    return;
   }
+  detail::PenaltyRoleInput in;
+  detail::fillPenaltyInput(facts, in);
+  if (!m_roleScratch) m_roleScratch = std::make_unique<detail::RoleResult>();
+  detail::computePenaltyRole(*role.shellTree, field, in, *m_roleScratch);
+  applyPenaltyRole(*m_roleScratch, resultOut, closestPointsOnly);
+}
+
+template <class Field>
+void SdfccdContactSystem::queuePenaltyRole(const Role& role, const Field& field,
+                                           const detail::PenaltyRoleFacts<BodyStep>& facts) {
+  // Filled in its slot (no copy of a local); what points into `role` (a local of processPair) is made to last.
+  using Plan = detail::PenaltyRolePlan<Field, BodyStep>;
+  Plan& plan = m_deferred->slot<Plan>();
+  plan.tree = role.shellTree;
+  plan.field = detail::HeldField<Field>(field);
+  plan.facts = facts;
+  plan.facts.bodyFromShellChild = lastingFrame(role.bodyFromShellChild, nullptr);
+  plan.facts.bodyFromFieldChild = lastingFrame(role.bodyFromFieldChild, nullptr);
+  plan.facts.bodyFromField = lastingFrame(role.bodyFromField, role.modelBodyFromField);
+  // Without per-body overrides the pair's parameters are the world's (combinedPenalty returns them untouched).
+  plan.facts.penalty =
+      m_bodyContacts.empty() || role.penalty == nullptr ? &m_settings.penalty : &m_deferred->stash(*role.penalty);
+  const auto run = [](const void* data, detail::RoleResult& out) {
+    const Plan& p = *static_cast<const Plan*>(data);
+    detail::PenaltyRoleInput in;
+    detail::fillPenaltyInput(p.facts, in);
+    detail::computePenaltyRole(*p.tree, p.field.get(), in, out);
+  };
+  // A refused query (the batch full: not with two roles per planned pair) is computed when Bullet reaches it; its
+  // pair is then not applied as a whole (processPair's fast path).
+  if (!m_deferred->add(role.manifold, role.index, run, &plan)) m_planIncomplete.push_back(role.manifold);
+}
+
+const Rigid* SdfccdContactSystem::lastingFrame(const Rigid& frame, const Rigid* kept) {
+  static const Rigid kIdentity = Rigid::Identity();
+  if (kept != nullptr) return kept;
+  // Bit for bit: the job then computes with exactly these values.
+  if (std::memcmp(frame.data(), kIdentity.data(), sizeof(double) * 16) == 0) return &kIdentity;
+  return &m_deferred->stash(frame);
 }
 
 void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btManifoldResult* resultOut,

@@ -12,7 +12,8 @@
 ///    (needsCollision, our contacts algorithm, its solver pair made) runs through processPair in planning mode:
 ///    each body's motion over the step is predicted (bodyStep, from the state before any impulse of this step),
 ///    each role that may be deferred (our shell against our grid field or a plane) queues its query with copies of
-///    its inputs; nothing else changes (no manifold, record, statistic or impulse);
+///    what is its own and pointers to what stays put through the step (penalty_role.h: the job builds its input);
+///    nothing else changes (no manifold, record, statistic or impulse);
 /// 2. the queue runs on the persistent pool (narrowphase_pool.h), each query into its own result;
 /// 3. Bullet goes on processing its pairs in its order; each of our roles takes its planned result instead of
 ///    computing it, and everything after the CCD (manifold points, records, clamps, impulses) runs as before.
@@ -102,6 +103,9 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
     ~BatchScope() { queries.finish(); }
     detail::DeferredQueries& queries;
   };
+  // Queued roles point into m_bodies (penalty_role.h): planning adds at most two bodies per pair, so it does not
+  // move while the workers read it.
+  m_bodies.reserve(m_bodies.size() + 2 * planned.size());
   m_deferred->begin(*m_pool, 2 * planned.size());
   const BatchScope batch(*m_deferred);
   std::optional<PlanningScope> scope(std::in_place, m_planning);
@@ -142,6 +146,7 @@ void SdfccdContactSystem::applyPlannedPair(const btCollisionObjectWrapper* wrap0
     } else {
       applyPenaltyRole(*result, resultOut, false);
     }
+    if (!m_deferred->nextIsOf(manifold)) break;  // the pair's last role
   }
   if (solverPair == nullptr) return;
   const bool swapped = manifold->getBody0() != wrap0->getCollisionObject();

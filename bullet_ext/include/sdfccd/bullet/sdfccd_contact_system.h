@@ -94,6 +94,8 @@ class DeferredQueries;
 class NarrowphasePool;
 struct ContactRecord;
 struct RoleResult;
+template <class Body>
+struct PenaltyRoleFacts;
 }  // namespace detail
 
 /// Receives one line of text: an unsupported pair's announcement (SdfccdContactSystem::setLogCallback).
@@ -313,6 +315,12 @@ class SdfccdContactSystem : public btActionInterface {
   template <class Field>
   void processRole(const Role& role, const Field& field, double thresholdCells, double cellSize, double timeStep,
                    btManifoldResult* resultOut, bool closestPointsOnly);
+  /// Penalty mode, planning: queues the role's work (penalty_role.h) in the step's batch.
+  template <class Field>
+  void queuePenaltyRole(const Role& role, const Field& field, const detail::PenaltyRoleFacts<BodyStep>& facts);
+  /// `frame` at an address that lasts through the step: `kept` when given, a shared identity, or a copy in the
+  /// batch's slots.
+  const Rigid* lastingFrame(const Rigid& frame, const Rigid* kept);
   /// Penalty mode, after a role's work (penalty_role.h, on the pool or here): statistics, manifold points, the
   /// record, the impulses (serial: it touches Bullet).
   void applyPenaltyRole(const detail::RoleResult& result, btManifoldResult* resultOut, bool closestPointsOnly);
@@ -362,7 +370,14 @@ class SdfccdContactSystem : public btActionInterface {
   };
   // The slots (an 80-body pile has ~2,000), and the order in which this and the last step's walk met them.
   std::unordered_map<SlotKey, std::unique_ptr<AnchorSlot>, SlotKeyHash> m_anchorSlots;
-  std::vector<std::pair<SlotKey, AnchorSlot*>> m_slotOrder, m_lastSlotOrder;
+  struct SlotVisit {  // one slot met in a step's walk (anchorSlot): its key, slot, objects and step
+    SlotKey key;
+    AnchorSlot* slot;
+    const btCollisionObject* shellObject;
+    const btCollisionObject* fieldObject;
+    std::int64_t step;
+  };
+  std::vector<SlotVisit> m_slotOrder, m_lastSlotOrder;
   std::size_t m_slotCursor = 0;
   std::vector<SdfccdPairContact> m_lastContacts;
   ContactQueryResult m_scratch;                // reused by every role: keeps the CCD's buffers
