@@ -121,10 +121,11 @@ class CoherentQuery {
         m_field(field),
         m_settings(settings),
         m_cache(cache),
-        m_segment(rigidCcdScratch().segment) {
+        m_segment(rigidCcdScratch().segment),
+        m_end(end) {
     m_bounds = fieldCullingBounds(field);
     prepareCache(start, end);
-    m_axis = AxisCertificates<Field>(cache, field, start, end, m_reach[0]);
+    m_axis = AxisCertificates<Field>(cache, field, start, end, m_reach[0], startsAtLastEnd(start));
   }
 
   void run(RigidCcdResult& out) {
@@ -141,7 +142,8 @@ class CoherentQuery {
       }
     }
     m_cache.front.swap(next);
-    compactPoses();
+    const bool compacted = compactPoses();
+    rememberEnd(m_end, compacted ? &m_cache.scratchRemap : nullptr);
     m_cache.frontBound = m_fold;
     m_cache.frontCertified = m_foldComplete && !m_cache.front.empty();
     std::sort(out.contacts.begin(), out.contacts.end(),
@@ -174,13 +176,50 @@ class CoherentQuery {
     m_translation.resize(c.poses.size());
     m_rotationToEnd.resize(c.poses.size());
     m_translationToEnd.resize(c.poses.size());
+    // The older poses' distances to the start pose: the last query's to its end when this one starts there.
+    const std::size_t known = startsAtLastEnd(start) ? c.lastRotationToEnd.size() : 0;
     // Each pose's distance to the end pose is one half of its motion and what the fold (foldEntry) takes off.
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
       const Rigid& p = c.poses[k];
       m_rotationToEnd[k] = (end.linear() - p.linear()).norm();
       m_translationToEnd[k] = (end.translation() - p.translation()).norm();
-      m_rotation[k] = std::max((start.linear() - p.linear()).norm(), m_rotationToEnd[k]);
-      m_translation[k] = std::max((start.translation() - p.translation()).norm(), m_translationToEnd[k]);
+      const double rotationFromStart = k < known ? c.lastRotationToEnd[k] : (start.linear() - p.linear()).norm();
+      const double translationFromStart =
+          k < known ? c.lastTranslationToEnd[k] : (start.translation() - p.translation()).norm();
+      m_rotation[k] = std::max(rotationFromStart, m_rotationToEnd[k]);
+      m_translation[k] = std::max(translationFromStart, m_translationToEnd[k]);
+    }
+  }
+
+  /// Does this query start exactly where the last one ended, with that query's distances kept for every pose but
+  /// the one just added (the end pose)?
+  bool startsAtLastEnd(const Rigid& start) const {
+    const RigidCcdCoherence& c = m_cache;
+    return c.lastEndValid && c.lastRotationToEnd.size() + 1 == c.poses.size() &&
+           c.lastTranslationToEnd.size() == c.lastRotationToEnd.size() && start.matrix() == c.lastEnd.matrix();
+  }
+
+  /// Keeps the kept poses' distances to this query's end pose for the next query (startsAtLastEnd), in the
+  /// poses' order after compaction (`remap`: old index to new, -1 dropped; null when none ran).
+  void rememberEnd(const Rigid& end, const std::vector<int>* remap) {
+    RigidCcdCoherence& c = m_cache;
+    c.lastEnd = end;
+    c.lastEndValid = true;
+    const std::size_t n = c.poses.size();
+    c.lastRotationToEnd.resize(n);
+    c.lastTranslationToEnd.resize(n);
+    const std::vector<Vec3>* axisToEnd = m_axis.toEnd();
+    c.lastAxisToEnd.resize(axisToEnd != nullptr ? 2 * n : 0);
+    for (std::size_t k = 0; k < m_rotationToEnd.size(); ++k) {
+      const int to = remap != nullptr ? (*remap)[k] : static_cast<int>(k);
+      if (to < 0) continue;
+      const std::size_t j = static_cast<std::size_t>(to);
+      c.lastRotationToEnd[j] = m_rotationToEnd[k];
+      c.lastTranslationToEnd[j] = m_translationToEnd[k];
+      if (axisToEnd != nullptr) {
+        c.lastAxisToEnd[2 * j] = (*axisToEnd)[2 * k];
+        c.lastAxisToEnd[2 * j + 1] = (*axisToEnd)[2 * k + 1];
+      }
     }
   }
 
@@ -325,9 +364,11 @@ class CoherentQuery {
 
   /// Once there are many poses: moves the older half's certificates to the end pose and drops the poses no
   /// front entry refers to.
-  void compactPoses() {
+  bool compactPoses() {
     RigidCcdCoherence& c = m_cache;
-    if (c.poses.size() < kCoherencePoses) return;
+    // Not before kCoherencePoses, nor before half as many new poses as that came since the last compaction: axis
+    // certificates keep their poses, and deep in a hole they may keep many (a compaction walks the whole front).
+    if (c.poses.size() < kCoherencePoses || c.poses.size() < c.posesAfterCompaction + kCoherencePoses / 2) return false;
     // In place, in the cache's buffers: this runs on most queries of a long contact (allocation-free).
     std::vector<int>& remap = c.scratchRemap;
     remap.assign(c.poses.size(), -1);
@@ -361,6 +402,8 @@ class CoherentQuery {
     for (auto& e : c.front) {
       if (e.pose >= 0) e.pose = remap[static_cast<std::size_t>(e.pose)];
     }
+    c.posesAfterCompaction = kept;
+    return true;
   }
 
   const RigidCcdQuery<Field>& m_query;
@@ -381,6 +424,7 @@ class CoherentQuery {
   bool m_foldEmpty = true;
   bool m_foldComplete = true;  // every entry folded carries a certificate
   SegmentCcdResult& m_segment;
+  Rigid m_end;  // the step's end pose (rememberEnd)
 };
 
 }  // namespace detail
