@@ -36,6 +36,28 @@ inline double distanceToBox(const Vec3& p, const Box3& box) {
   return (nearest - p).norm();
 }
 
+/// ||R_a - R_b||_F, in plain scalar code: Eigen's reduction over the blocks of the 4x4 matrices was not inlined and
+/// was most of the whole-front test's cost in a pile of bodies (a bound with the certificates' slack: its rounding
+/// need not match any other evaluation).
+inline double rotationDistance(const Rigid& a, const Rigid& b) {
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) {
+      const double d = a.linear()(r, c) - b.linear()(r, c);
+      sum += d * d;
+    }
+  }
+  return std::sqrt(sum);
+}
+
+/// |t_a - t_b|.
+inline double translationDistance(const Rigid& a, const Rigid& b) {
+  const double x = a.translation().x() - b.translation().x();
+  const double y = a.translation().y() - b.translation().y();
+  const double z = a.translation().z() - b.translation().z();
+  return std::sqrt(x * x + y * y + z * z);
+}
+
 /// How far the shell's points may have moved since pose `p`, in the step [start, end]: the largest Frobenius
 /// norm of the rotation change (times a point's distance from the shell origin) and of the translation change.
 struct PoseMotion {
@@ -43,8 +65,8 @@ struct PoseMotion {
   double translation = 0.0;
 };
 inline PoseMotion motionSince(const Rigid& p, const Rigid& start, const Rigid& end) {
-  return {std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm()),
-          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm())};
+  return {std::max(rotationDistance(start, p), rotationDistance(end, p)),
+          std::max(translationDistance(start, p), translationDistance(end, p))};
 }
 
 /// What keys a history to its field: a field with an instance id (instance_id.h) by that id; the analytic plane
@@ -181,11 +203,10 @@ class CoherentQuery {
     // Each pose's distance to the end pose is one half of its motion and what the fold (foldEntry) takes off.
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
       const Rigid& p = c.poses[k];
-      m_rotationToEnd[k] = (end.linear() - p.linear()).norm();
-      m_translationToEnd[k] = (end.translation() - p.translation()).norm();
-      const double rotationFromStart = k < known ? c.lastRotationToEnd[k] : (start.linear() - p.linear()).norm();
-      const double translationFromStart =
-          k < known ? c.lastTranslationToEnd[k] : (start.translation() - p.translation()).norm();
+      m_rotationToEnd[k] = rotationDistance(end, p);
+      m_translationToEnd[k] = translationDistance(end, p);
+      const double rotationFromStart = k < known ? c.lastRotationToEnd[k] : rotationDistance(start, p);
+      const double translationFromStart = k < known ? c.lastTranslationToEnd[k] : translationDistance(start, p);
       m_rotation[k] = std::max(rotationFromStart, m_rotationToEnd[k]);
       m_translation[k] = std::max(translationFromStart, m_translationToEnd[k]);
     }
