@@ -129,7 +129,9 @@ bool coherentFrontClear(const RigidCcdCoherence& c, const PointTree& tree, const
   if (!c.frontCertified || c.front.empty() || c.poses.empty()) return false;
   if (!coherenceMatches(c, tree, field, settings.sigma, fieldCullingBounds(field).lipschitz)) return false;
   if (!start.matrix().allFinite() || !end.matrix().allFinite() || !std::isfinite(settings.sigma)) return false;
-  const PoseMotion m = motionSince(c.poses.back(), start, end);
+  // The newest kept pose is the last full query's end: its copy in the history itself (lastEnd) spares a cache
+  // miss on the poses' buffer in a world of many pairs.
+  const PoseMotion m = motionSince(c.lastEndValid ? c.lastEnd : c.poses.back(), start, end);
   return (m.rotation * c.frontBound.maxReach + m.translation) * tolerance::kBoundGrowth < c.frontBound.minSlack;
 }
 
@@ -154,6 +156,7 @@ class CoherentQuery {
     std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
     next.clear();
     m_cache.frontCertified = false;  // until the new front is folded (an exception leaves the fast path off)
+    m_cache.lastEndValid = false;    // until rememberEnd (likewise)
     const bool ascend = m_cache.queries++ % kAscentPeriod == 0;
     for (const RigidCcdCoherence::Entry& entry : m_cache.front) {
       if (certified(entry, 1.0)) {

@@ -99,7 +99,8 @@ class RigidCcdCoherence {
   double lipschitz = 0.0;
   std::uint64_t queries = 0;             // coherent queries run (paces the ascent of kept nodes)
   std::size_t posesAfterCompaction = 0;  // poses kept by the last compaction (paces the next)
-  /// The last query's end pose and each kept pose's distance to it (||R_end - R_k||_F, |t_end - t_k|, and per
+  /// The last query's end pose (the newest kept pose: the whole-front test reads it here) and each kept pose's
+  /// distance to it (||R_end - R_k||_F, |t_end - t_k|, and per
   /// axis the rows' and the translation's): a query that starts where the last one ended (every step of a
   /// simulation) takes its start pose's distances from here instead of recomputing them (the same numbers).
   Rigid lastEnd = Rigid::Identity();
