@@ -5,6 +5,8 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 #include "sdfccd/error.h"
 #include "sdfccd/field/analytic_fields.h"
@@ -140,6 +142,22 @@ Vec6 PenaltyRenderer<Field>::coupledVelocityChange(const RigidBodyState& device,
 
 namespace {
 
+/// The field's gradient at `pointInSdf`, and for a grid field inside its box also phi there (`outDistance`, else
+/// NaN) from the same cell lookup: GridField::gradient and ::distance interpolate that cell each, so the values
+/// are bit-identical and a contact pays one lookup instead of two.
+template <class Field>
+Vec3 gradientWithDistance(const Field& field, const Vec3& pointInSdf, double& outDistance) {
+  outDistance = std::numeric_limits<double>::quiet_NaN();
+  if constexpr (std::is_same_v<Field, GridField>) {
+    if (field.grid().contains(pointInSdf)) {
+      Vec3 gradient;
+      outDistance = field.grid().interpolate(pointInSdf, gradient);
+      return gradient;
+    }
+  }
+  return field.gradient(pointInSdf);
+}
+
 /// The cross-product matrix [v]x (so that [v]x w = v x w).
 Mat3 cross(const Vec3& v) {
   Mat3 m;
@@ -179,7 +197,8 @@ void PenaltyRenderer<Field>::updateContactGradient() {
     if (!(c.depthAtEnd < 0.0) && !(everyContact && !c.intervals.empty())) continue;
     const std::size_t i = static_cast<std::size_t>(c.point);
     const Vec3 pointInSdf = sdfFromEnd * shell.positions[i];
-    const Vec3 gradient = worldFromSdfRotation * m_field->gradient(pointInSdf);
+    double distance;  // phi at the point when the gradient's lookup gave it (NaN: not yet)
+    const Vec3 gradient = worldFromSdfRotation * gradientWithDistance(*m_field, pointInSdf, distance);
     const double len = gradient.norm();
     if (!(len > tolerance::kMinDirectionLength)) continue;
     const Vec3 r = worldFromBody * shell.positions[i];
@@ -196,7 +215,7 @@ void PenaltyRenderer<Field>::updateContactGradient() {
     uColumn.head<3>() = u;
     uColumn.tail<3>() = r.cross(u);
     m_contactGradient.noalias() -= k * uColumn * gRow;
-    const double depth = m_field->distance(pointInSdf) - sigma;
+    const double depth = (std::isnan(distance) ? m_field->distance(pointInSdf) : distance) - sigma;
     if (!(depth < 0.0)) continue;
     const Vec3 f = (-k * depth) * u;
     m_contactGradient.bottomRightCorner<3, 3>() += cross(f) * cross(r);  // the geometric term of the torque

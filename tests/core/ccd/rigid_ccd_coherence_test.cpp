@@ -239,5 +239,47 @@ TEST(RigidCcdCoherence, AnotherFieldOrTreeAtTheSameAddressStartsAfresh) {
   EXPECT_GT(contacts, 0);
 }
 
+/// A query that starts where the last one ended takes the kept poses' distances to its start from that query
+/// (RigidCcdCoherence::lastEnd). Here most steps chain (start = last end) and every few steps one starts
+/// elsewhere, inside the field, and ends back at the last end: the distances from that start must be measured,
+/// else the front's certificates see almost no motion and miss the contacts along the way in. Length and axis
+/// certificates alike.
+TEST(RigidCcdCoherence, StepsThatDoNotStartAtTheLastEndEqualFresh) {
+  std::mt19937 rng(41);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  int contacts = 0;
+  int detourContacts = 0;
+  std::int64_t certified = 0;
+  for (int field = 0; field < 6; ++field) {
+    const test::RandomGridCase c = test::randomGridCase(500 + field, field, rng);
+    const RigidCcdSettings s = test::variedGridSettings(field);
+    RigidCcdCoherence history;
+    history.axisCertificates = field % 2 == 1;
+    const Box3 box = c.grid.grid().box();
+    Rigid pose = test::randomPose(test::expanded(box, 1.2), rng);
+    for (int step = 0; step < 120; ++step) {
+      const std::string what = "field " + std::to_string(field) + " step " + std::to_string(step);
+      if (step % 5 == 4) {
+        // The detour: from a random pose in the field's box back to the last end (a zero-length chain step
+        // follows, so the next chained step starts at an end pose again).
+        const Rigid detour = test::randomPose(box, rng);
+        int before = contacts;
+        certified += coherentStep(c.tree, c.grid, detour, pose, s, history, what + " detour", &contacts).certified;
+        detourContacts += contacts - before;
+        continue;
+      }
+      Rigid next = pose;
+      next.translation() += 0.02 * Vec3(noise(rng), noise(rng), noise(rng));
+      next.linear() = pose.linear() * Eigen::AngleAxisd(0.02 * noise(rng), Vec3::UnitZ()).toRotationMatrix();
+      if (!box.contains(next.translation())) next.translation() = box.center();
+      certified += coherentStep(c.tree, c.grid, pose, next, s, history, what, &contacts).certified;
+      pose = next;
+    }
+  }
+  EXPECT_GT(detourContacts, 100);  // the detours do cross the field
+  EXPECT_GT(contacts, 1000);
+  EXPECT_GT(certified, 0);
+}
+
 }  // namespace
 }  // namespace sdfccd

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "sdfccd/error.h"
 
@@ -38,6 +40,28 @@ TEST(SdfGrid, InterpolatesAffineFunctionExactlyWithGradient) {
     EXPECT_NEAR(g.x(), 0.25, 1e-5);
     EXPECT_NEAR(g.y(), -0.5, 1e-5);
     EXPECT_NEAR(g.z(), 0.125, 1e-5);
+  }
+}
+
+// interpolate(p) computes the value without the gradient: it must be the two-output form's value bit for bit (the
+// CCD, the certificates and the penalty samples mix both), here on a random grid at random points, inside the box,
+// on its faces and outside it (clamped).
+TEST(SdfGrid, ValueAloneIsTheValueWithGradientBitForBit) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  std::vector<float> values(7 * 5 * 6);
+  for (float& v : values) v = value(rng);
+  const SdfGrid grid(Vec3i(7, 5, 6), Vec3(-0.3, 0.2, -1.1), 0.37, values);
+  const Box3 box = grid.box();
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  for (int n = 0; n < 2000; ++n) {
+    Vec3 p = box.min() + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.sizes());
+    if (n % 10 == 0) p.x() = box.max().x();  // on a face
+    Vec3 g;
+    const double both = grid.interpolate(p, g);
+    const double alone = grid.interpolate(p);
+    EXPECT_EQ(std::memcmp(&both, &alone, sizeof(double)), 0) << n << ": " << both << " vs " << alone;
+    EXPECT_EQ(grid.gradient(p), g);
   }
 }
 

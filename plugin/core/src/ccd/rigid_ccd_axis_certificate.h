@@ -39,8 +39,10 @@ class AxisCertificates {
   /// Takes the shared bounds of the field when the history asks for axis certificates (GridField only) and the
   /// per-pose motion of this step.
   /// `rootReach`: the tree root's largest distance from the shell origin (every point's bound).
-  AxisCertificates(RigidCcdCoherence& cache, const Field& field, const Rigid& start, const Rigid& end,
-                   double rootReach) {
+  /// `startsAtLastEnd`: the start pose is the last query's end (RigidCcdCoherence::lastAxisToEnd holds the kept
+  /// poses' distances to it, all but the newest).
+  AxisCertificates(RigidCcdCoherence& cache, const Field& field, const Rigid& start, const Rigid& end, double rootReach,
+                   bool startsAtLastEnd) {
     if constexpr (std::is_same_v<Field, GridField>) {
       if (!cache.axisCertificates) return;
       if (!cache.axisBounds) cache.axisBounds = sharedAxisLipschitzBounds(field);
@@ -52,17 +54,38 @@ class AxisCertificates {
       m_coordinates = tolerance::kRelativeSlack * (farthest.norm() + rootReach);
       // Per kept pose, the largest per-axis motion over the step's two poses: |row_a(R - R_k)| at 2k, |t_a - t_k,a|
       // at 2k + 1.
+      // Per kept pose, the per-axis distance to the end pose (kept for the next query: RigidCcdCoherence::lastEnd),
+      // and to the start pose (from the last query when it ended there).
+      const std::size_t n = cache.poses.size();
+      const std::size_t known = startsAtLastEnd && cache.lastAxisToEnd.size() + 2 == 2 * n ? n - 1 : 0;
+      std::vector<Vec3>& toEnd = cache.scratchAxisToEnd;
       std::vector<Vec3>& motion = cache.scratchAxisMotion;
-      motion.resize(2 * cache.poses.size());
-      for (std::size_t k = 0; k < cache.poses.size(); ++k)
-        axisMotionSince(cache.poses[k], start, end, motion[2 * k], motion[2 * k + 1]);
+      toEnd.resize(2 * n);
+      motion.resize(2 * n);
+      for (std::size_t k = 0; k < n; ++k) {
+        axisDistance(cache.poses[k], end, toEnd[2 * k], toEnd[2 * k + 1]);
+        Vec3 rows, translation;
+        if (k < known) {
+          rows = cache.lastAxisToEnd[2 * k];
+          translation = cache.lastAxisToEnd[2 * k + 1];
+        } else {
+          axisDistance(cache.poses[k], start, rows, translation);
+        }
+        for (int a = 0; a < 3; ++a) {
+          motion[2 * k][a] = std::max(rows[a], toEnd[2 * k][a]);
+          motion[2 * k + 1][a] = std::max(translation[a], toEnd[2 * k + 1][a]);
+        }
+      }
       m_motion = motion.data();
+      m_toEnd = &toEnd;
     } else {
-      (void)cache, (void)field, (void)start, (void)end, (void)rootReach;
+      (void)cache, (void)field, (void)start, (void)end, (void)rootReach, (void)startsAtLastEnd;
     }
   }
 
   bool enabled() const { return m_bounds != nullptr; }
+  /// Per kept pose, the per-axis distance to this step's end pose (2 per pose, as the motion); null when off.
+  const std::vector<Vec3>* toEnd() const { return m_toEnd; }
 
   /// The block of a certificate's centre (field frame), -1 when off or outside the box.
   int blockOf(const Vec3& centreInSdf) const { return m_bounds ? m_bounds->blockOf(centreInSdf) : -1; }
@@ -83,19 +106,18 @@ class AxisCertificates {
   }
 
  private:
-  static void axisMotionSince(const Rigid& p, const Rigid& start, const Rigid& end, Vec3& outRotationRows,
-                              Vec3& outTranslation) {
+  /// |row_a(R_q - R_p)| and |t_q,a - t_p,a| per axis.
+  static void axisDistance(const Rigid& p, const Rigid& q, Vec3& outRotationRows, Vec3& outTranslation) {
     for (int a = 0; a < 3; ++a) {
-      outRotationRows[a] = std::max((start.linear().row(a) - p.linear().row(a)).norm(),
-                                    (end.linear().row(a) - p.linear().row(a)).norm());
-      outTranslation[a] = std::max(std::abs(start.translation()[a] - p.translation()[a]),
-                                   std::abs(end.translation()[a] - p.translation()[a]));
+      outRotationRows[a] = (q.linear().row(a) - p.linear().row(a)).norm();
+      outTranslation[a] = std::abs(q.translation()[a] - p.translation()[a]);
     }
   }
 
   const AxisLipschitzBounds* m_bounds = nullptr;
-  const Vec3* m_motion = nullptr;  // the history's scratchAxisMotion
-  double m_coordinates = 0.0;      // rounding slack on the coordinates (the constructor)
+  const Vec3* m_motion = nullptr;              // the history's scratchAxisMotion
+  const std::vector<Vec3>* m_toEnd = nullptr;  // the history's scratchAxisToEnd
+  double m_coordinates = 0.0;                  // rounding slack on the coordinates (the constructor)
 };
 
 }  // namespace detail

@@ -36,6 +36,28 @@ inline double distanceToBox(const Vec3& p, const Box3& box) {
   return (nearest - p).norm();
 }
 
+/// ||R_a - R_b||_F, in plain scalar code: Eigen's reduction over the blocks of the 4x4 matrices was not inlined and
+/// was most of the whole-front test's cost in a pile of bodies (a bound with the certificates' slack: its rounding
+/// need not match any other evaluation).
+inline double rotationDistance(const Rigid& a, const Rigid& b) {
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) {
+      const double d = a.linear()(r, c) - b.linear()(r, c);
+      sum += d * d;
+    }
+  }
+  return std::sqrt(sum);
+}
+
+/// |t_a - t_b|.
+inline double translationDistance(const Rigid& a, const Rigid& b) {
+  const double x = a.translation().x() - b.translation().x();
+  const double y = a.translation().y() - b.translation().y();
+  const double z = a.translation().z() - b.translation().z();
+  return std::sqrt(x * x + y * y + z * z);
+}
+
 /// How far the shell's points may have moved since pose `p`, in the step [start, end]: the largest Frobenius
 /// norm of the rotation change (times a point's distance from the shell origin) and of the translation change.
 struct PoseMotion {
@@ -43,8 +65,8 @@ struct PoseMotion {
   double translation = 0.0;
 };
 inline PoseMotion motionSince(const Rigid& p, const Rigid& start, const Rigid& end) {
-  return {std::max((start.linear() - p.linear()).norm(), (end.linear() - p.linear()).norm()),
-          std::max((start.translation() - p.translation()).norm(), (end.translation() - p.translation()).norm())};
+  return {std::max(rotationDistance(start, p), rotationDistance(end, p)),
+          std::max(translationDistance(start, p), translationDistance(end, p))};
 }
 
 /// What keys a history to its field: a field with an instance id (instance_id.h) by that id; the analytic plane
@@ -107,7 +129,9 @@ bool coherentFrontClear(const RigidCcdCoherence& c, const PointTree& tree, const
   if (!c.frontCertified || c.front.empty() || c.poses.empty()) return false;
   if (!coherenceMatches(c, tree, field, settings.sigma, fieldCullingBounds(field).lipschitz)) return false;
   if (!start.matrix().allFinite() || !end.matrix().allFinite() || !std::isfinite(settings.sigma)) return false;
-  const PoseMotion m = motionSince(c.poses.back(), start, end);
+  // The newest kept pose is the last full query's end: its copy in the history itself (lastEnd) spares a cache
+  // miss on the poses' buffer in a world of many pairs.
+  const PoseMotion m = motionSince(c.lastEndValid ? c.lastEnd : c.poses.back(), start, end);
   return (m.rotation * c.frontBound.maxReach + m.translation) * tolerance::kBoundGrowth < c.frontBound.minSlack;
 }
 
@@ -121,16 +145,18 @@ class CoherentQuery {
         m_field(field),
         m_settings(settings),
         m_cache(cache),
-        m_segment(rigidCcdScratch().segment) {
+        m_segment(rigidCcdScratch().segment),
+        m_end(end) {
     m_bounds = fieldCullingBounds(field);
     prepareCache(start, end);
-    m_axis = AxisCertificates<Field>(cache, field, start, end, m_reach[0]);
+    m_axis = AxisCertificates<Field>(cache, field, start, end, m_reach[0], startsAtLastEnd(start));
   }
 
   void run(RigidCcdResult& out) {
     std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
     next.clear();
     m_cache.frontCertified = false;  // until the new front is folded (an exception leaves the fast path off)
+    m_cache.lastEndValid = false;    // until rememberEnd (likewise)
     const bool ascend = m_cache.queries++ % kAscentPeriod == 0;
     for (const RigidCcdCoherence::Entry& entry : m_cache.front) {
       if (certified(entry, 1.0)) {
@@ -141,7 +167,8 @@ class CoherentQuery {
       }
     }
     m_cache.front.swap(next);
-    compactPoses();
+    const bool compacted = compactPoses();
+    rememberEnd(m_end, compacted ? &m_cache.scratchRemap : nullptr);
     m_cache.frontBound = m_fold;
     m_cache.frontCertified = m_foldComplete && !m_cache.front.empty();
     std::sort(out.contacts.begin(), out.contacts.end(),
@@ -174,13 +201,49 @@ class CoherentQuery {
     m_translation.resize(c.poses.size());
     m_rotationToEnd.resize(c.poses.size());
     m_translationToEnd.resize(c.poses.size());
+    // The older poses' distances to the start pose: the last query's to its end when this one starts there.
+    const std::size_t known = startsAtLastEnd(start) ? c.lastRotationToEnd.size() : 0;
     // Each pose's distance to the end pose is one half of its motion and what the fold (foldEntry) takes off.
     for (std::size_t k = 0; k < c.poses.size(); ++k) {
       const Rigid& p = c.poses[k];
-      m_rotationToEnd[k] = (end.linear() - p.linear()).norm();
-      m_translationToEnd[k] = (end.translation() - p.translation()).norm();
-      m_rotation[k] = std::max((start.linear() - p.linear()).norm(), m_rotationToEnd[k]);
-      m_translation[k] = std::max((start.translation() - p.translation()).norm(), m_translationToEnd[k]);
+      m_rotationToEnd[k] = rotationDistance(end, p);
+      m_translationToEnd[k] = translationDistance(end, p);
+      const double rotationFromStart = k < known ? c.lastRotationToEnd[k] : rotationDistance(start, p);
+      const double translationFromStart = k < known ? c.lastTranslationToEnd[k] : translationDistance(start, p);
+      m_rotation[k] = std::max(rotationFromStart, m_rotationToEnd[k]);
+      m_translation[k] = std::max(translationFromStart, m_translationToEnd[k]);
+    }
+  }
+
+  /// Does this query start exactly where the last one ended, with that query's distances kept for every pose but
+  /// the one just added (the end pose)?
+  bool startsAtLastEnd(const Rigid& start) const {
+    const RigidCcdCoherence& c = m_cache;
+    return c.lastEndValid && c.lastRotationToEnd.size() + 1 == c.poses.size() &&
+           c.lastTranslationToEnd.size() == c.lastRotationToEnd.size() && start.matrix() == c.lastEnd.matrix();
+  }
+
+  /// Keeps the kept poses' distances to this query's end pose for the next query (startsAtLastEnd), in the
+  /// poses' order after compaction (`remap`: old index to new, -1 dropped; null when none ran).
+  void rememberEnd(const Rigid& end, const std::vector<int>* remap) {
+    RigidCcdCoherence& c = m_cache;
+    c.lastEnd = end;
+    c.lastEndValid = true;
+    const std::size_t n = c.poses.size();
+    c.lastRotationToEnd.resize(n);
+    c.lastTranslationToEnd.resize(n);
+    const std::vector<Vec3>* axisToEnd = m_axis.toEnd();
+    c.lastAxisToEnd.resize(axisToEnd != nullptr ? 2 * n : 0);
+    for (std::size_t k = 0; k < m_rotationToEnd.size(); ++k) {
+      const int to = remap != nullptr ? (*remap)[k] : static_cast<int>(k);
+      if (to < 0) continue;
+      const std::size_t j = static_cast<std::size_t>(to);
+      c.lastRotationToEnd[j] = m_rotationToEnd[k];
+      c.lastTranslationToEnd[j] = m_translationToEnd[k];
+      if (axisToEnd != nullptr) {
+        c.lastAxisToEnd[2 * j] = (*axisToEnd)[2 * k];
+        c.lastAxisToEnd[2 * j + 1] = (*axisToEnd)[2 * k + 1];
+      }
     }
   }
 
@@ -325,9 +388,11 @@ class CoherentQuery {
 
   /// Once there are many poses: moves the older half's certificates to the end pose and drops the poses no
   /// front entry refers to.
-  void compactPoses() {
+  bool compactPoses() {
     RigidCcdCoherence& c = m_cache;
-    if (c.poses.size() < kCoherencePoses) return;
+    // Not before kCoherencePoses, nor before half as many new poses as that came since the last compaction: axis
+    // certificates keep their poses, and deep in a hole they may keep many (a compaction walks the whole front).
+    if (c.poses.size() < kCoherencePoses || c.poses.size() < c.posesAfterCompaction + kCoherencePoses / 2) return false;
     // In place, in the cache's buffers: this runs on most queries of a long contact (allocation-free).
     std::vector<int>& remap = c.scratchRemap;
     remap.assign(c.poses.size(), -1);
@@ -361,6 +426,8 @@ class CoherentQuery {
     for (auto& e : c.front) {
       if (e.pose >= 0) e.pose = remap[static_cast<std::size_t>(e.pose)];
     }
+    c.posesAfterCompaction = kept;
+    return true;
   }
 
   const RigidCcdQuery<Field>& m_query;
@@ -381,6 +448,7 @@ class CoherentQuery {
   bool m_foldEmpty = true;
   bool m_foldComplete = true;  // every entry folded carries a certificate
   SegmentCcdResult& m_segment;
+  Rigid m_end;  // the step's end pose (rememberEnd)
 };
 
 }  // namespace detail

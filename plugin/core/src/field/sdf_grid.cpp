@@ -64,66 +64,7 @@ SdfGrid::SdfGrid(const Vec3i& nodeCounts, const Vec3& origin, double spacing, st
   }
   m_minValue = *lo;
   m_maxValue = *hi;
-}
-
-bool SdfGrid::contains(const Vec3& pointInSdf) const {
-  const Box3 b = box();
-  return (pointInSdf.array() >= b.min().array()).all() && (pointInSdf.array() <= b.max().array()).all();
-}
-
-void SdfGrid::locate(const Vec3& pointInSdf, Vec3i& outCell, Vec3& outLocal) const {
-  const Vec3 u = (pointInSdf - m_origin) / m_spacing;
-  for (int a = 0; a < 3; ++a) {
-    const int last = m_nodeCounts[a] - 2;
-    double f = std::floor(u[a]);
-    // NaN compares false both ways and lands in cell 0 with local 0: callers validate inputs first.
-    int c = f < 0.0 ? 0 : (f > last ? last : static_cast<int>(f));
-    outCell[a] = c;
-    outLocal[a] = std::clamp(u[a] - c, 0.0, 1.0);
-  }
-}
-
-void SdfGrid::cellCorners(const Vec3i& cell, double outCorners[8]) const {
-  const std::size_t base = index(cell.x(), cell.y(), cell.z());
-  const std::size_t dy = static_cast<std::size_t>(m_nodeCounts.x());
-  const std::size_t dz = dy * static_cast<std::size_t>(m_nodeCounts.y());
-  outCorners[0] = m_values[base];
-  outCorners[1] = m_values[base + 1];
-  outCorners[2] = m_values[base + dy];
-  outCorners[3] = m_values[base + dy + 1];
-  outCorners[4] = m_values[base + dz];
-  outCorners[5] = m_values[base + dz + 1];
-  outCorners[6] = m_values[base + dz + dy];
-  outCorners[7] = m_values[base + dz + dy + 1];
-}
-
-double SdfGrid::interpolate(const Vec3& pointInSdf) const {
-  Vec3 g;
-  return interpolate(pointInSdf, g);
-}
-
-Vec3 SdfGrid::gradient(const Vec3& pointInSdf) const {
-  Vec3 g;
-  interpolate(pointInSdf, g);
-  return g;
-}
-
-double SdfGrid::interpolate(const Vec3& pointInSdf, Vec3& outGradient) const {
-  Vec3i cell;
-  Vec3 w;
-  locate(pointInSdf, cell, w);
-  double c[8];
-  cellCorners(cell, c);
-  const double x = w.x(), y = w.y(), z = w.z();
-  // Interpolate along x, then y, then z; the gradient follows from the same partial sums.
-  const TrilinearSums s = trilinearSums(c, x, y);
-  const double c00 = s.c00, c10 = s.c10, c01 = s.c01, c11 = s.c11, c0 = s.c0, c1 = s.c1;
-  const double dx0 = (c[1] - c[0]) + y * ((c[3] - c[2]) - (c[1] - c[0]));
-  const double dx1 = (c[5] - c[4]) + y * ((c[7] - c[6]) - (c[5] - c[4]));
-  outGradient.x() = (dx0 + z * (dx1 - dx0)) / m_spacing;
-  outGradient.y() = ((c10 - c00) + z * ((c11 - c01) - (c10 - c00))) / m_spacing;
-  outGradient.z() = (c1 - c0) / m_spacing;
-  return c0 + z * (c1 - c0);
+  m_boxMax = m_origin + m_spacing * cellCounts().cast<double>();
 }
 
 }  // namespace sdfccd

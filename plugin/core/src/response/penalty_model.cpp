@@ -68,6 +68,7 @@ struct PenaltyPointPath {
   double stiffness = 0.0;                     // k_i, N/m
   double damping = 0.0;                       // c_i, N s/m
   std::size_t anchor = 0;                     // index in the anchor table (anchor friction)
+  bool fieldTurns = true;                     // worldFromSdfStart != worldFromSdfEnd
 };
 
 Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
@@ -105,6 +106,7 @@ PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& norm
   path.handleFieldEnd = pointInWorldEnd - frames.fieldComEnd;
   path.worldFromSdfStart = fieldBody.worldFromSdfStart.linear();
   path.worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
+  path.fieldTurns = path.worldFromSdfStart != path.worldFromSdfEnd;
   return path;
 }
 
@@ -141,7 +143,10 @@ Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t
     if (w < 1.0) {
       const Vec3 gradientInSdf =
           gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
-      Vec3 away = -lerp(path.worldFromSdfStart * gradientInSdf, path.worldFromSdfEnd * gradientInSdf, t);
+      // A field body that does not turn during the step (a static one, always) has one product, not two.
+      const Vec3 awayStart = path.worldFromSdfStart * gradientInSdf;
+      const Vec3 awayEnd = path.fieldTurns ? Vec3(path.worldFromSdfEnd * gradientInSdf) : awayStart;
+      Vec3 away = -lerp(awayStart, awayEnd, t);
       const double awayLength = away.norm();
       if (away.allFinite() && awayLength > 0.0) {  // else: the shell normal (a flat spot of phi)
         away /= awayLength;

@@ -45,6 +45,8 @@ class RigidCcdCoherence {
     frontBound = {};
     frontCertified = false;
     poses.clear();
+    posesAfterCompaction = 0;
+    lastEndValid = false;
     tables.reset();
     axisBounds.reset();
     treeId = 0;
@@ -95,7 +97,17 @@ class RigidCcdCoherence {
   int nodeCount = 0;
   double sigma = 0.0;
   double lipschitz = 0.0;
-  std::uint64_t queries = 0;        // coherent queries run (paces the ascent of kept nodes)
+  std::uint64_t queries = 0;             // coherent queries run (paces the ascent of kept nodes)
+  std::size_t posesAfterCompaction = 0;  // poses kept by the last compaction (paces the next)
+  /// The last query's end pose (the newest kept pose: the whole-front test reads it here) and each kept pose's
+  /// distance to it (||R_end - R_k||_F, |t_end - t_k|, and per
+  /// axis the rows' and the translation's): a query that starts where the last one ended (every step of a
+  /// simulation) takes its start pose's distances from here instead of recomputing them (the same numbers).
+  Rigid lastEnd = Rigid::Identity();
+  bool lastEndValid = false;
+  std::vector<double> lastRotationToEnd;
+  std::vector<double> lastTranslationToEnd;
+  std::vector<Vec3> lastAxisToEnd;  // 2 per pose, as scratchAxisMotion (empty without axis certificates)
   std::vector<Entry> scratchFront;  // reused buffers
   std::vector<int> scratchStack;
   std::vector<double> scratchRotation;
@@ -104,6 +116,7 @@ class RigidCcdCoherence {
   std::vector<double> scratchTranslationToEnd;
   std::vector<int> scratchRemap;
   std::vector<Vec3> scratchAxisMotion;
+  std::vector<Vec3> scratchAxisToEnd;
 };
 
 }  // namespace sdfccd
