@@ -45,14 +45,18 @@ void expectIntervalsMatchSampling(const Field& field, const Vec3& p0, const Vec3
       EXPECT_TRUE(insideIntervals(r.intervals, t, 1e-12)) << "t " << t << " f " << f;
       if (firstSample < 0.0) firstSample = t;
     }
-    if (f > 1e-9) EXPECT_FALSE(insideIntervals(r.intervals, t, 0.0)) << "t " << t << " f " << f;
+    if (f > 1e-9) {
+      EXPECT_FALSE(insideIntervals(r.intervals, t, 0.0)) << "t " << t << " f " << f;
+    }
   }
   if (firstSample >= 0.0) {
     ASSERT_TRUE(r.hit());
     EXPECT_LE(r.fraction, firstSample + 1e-12);
     EXPECT_GE(r.fraction, firstSample - 1.0 / n - 1e-9);  // touching is within 1e-12 of sigma
     // At a crossing the field equals sigma (to the bisection's last bit).
-    if (r.state == SegmentState::Hit) EXPECT_NEAR(field.distance(r.point), sigma, 1e-9);
+    if (r.state == SegmentState::Hit) {
+      EXPECT_NEAR(field.distance(r.point), sigma, 1e-9);
+    }
   }
 }
 
