@@ -73,7 +73,6 @@ class PassivityController {
   Vec6 m_lastWrench = Vec6::Zero();
   Vec6 m_lastMove = Vec6::Zero();
   Vec6 m_lastPrediction = Vec6::Zero();
-  double m_lastError = 0.0;
 };
 
 /// Colgate's largest passive wall stiffness, 2 (b - |B|) / T (N/m; 0 when |B| >= b): b the device's physical
