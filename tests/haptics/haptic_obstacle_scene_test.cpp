@@ -2,6 +2,7 @@
 /// @brief The scene format's "obstacles" list and the tool's "field" (assets/scenes/haptics/README.md): the Fig. 7
 /// scenes load with the paper's roles, and the strict reader rejects bad obstacles with one line naming the key.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -54,9 +55,13 @@ TEST(HapticObstacleScene, BlockWithHoleIsClosedAndOutwardOriented) {
   EXPECT_THROW(blockWithHole(Vec3(0.02, 0.015, 0.02), 0.02, 32), Error);
 }
 
-/// Loads `text` from a scratch file; returns the error's message ("" when it loads).
+/// Loads `text` from a scratch file; returns the error's message ("" when it loads). The file is named after the
+/// running test: ctest runs this file's tests as processes in parallel, and a shared name let one test remove or
+/// overwrite the other's scene mid-load (the process id: two builds' suites may run at once).
 std::string loadError(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "haptic_obstacle_scene_test.json";
+  const std::string path = ::testing::TempDir() + "haptic_obstacle_scene_test_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                           std::to_string(::getpid()) + ".json";
   {
     std::ofstream out(path);
     out << text;
