@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <type_traits>
 
@@ -123,6 +124,29 @@ double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& ou
     }
   }
   return field.distance(pointInSdf);
+}
+
+/// The field at a contact's end position p_sdf(1) (PenaltyPointPath::pointInSdfEnd): phi and its gradient, as
+/// field.distance and field.gradient give them there. perAreaCoefficients takes the gradient at that point and the
+/// anchors' end-of-step update phi and the gradient (integratePenaltyWithCoefficients shares them).
+struct EndLookup {
+  double distance = 0.0;
+  Vec3 gradient = Vec3::Zero();
+};
+
+/// phi and the gradient at `pointInSdf`: one cell lookup for a grid field inside its box (distanceWithGradient).
+template <class Field>
+EndLookup lookUpEnd(const Field& field, const Vec3& pointInSdf) {
+  EndLookup out;
+  bool hasGradient = false;
+  out.distance = distanceWithGradient(field, pointInSdf, out.gradient, hasGradient);
+  if (!hasGradient) out.gradient = field.gradient(pointInSdf);
+  return out;
+}
+
+/// Bitwise equality (a -0 is not a +0): a value looked up at `b` then stands for one at `a`, whatever the field.
+bool sameBits(const Vec3& a, const Vec3& b) {
+  return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
 }
 
 /// The unit direction the field body is pushed at fraction t, depth d (< 0); zero when there is none.
@@ -307,13 +331,15 @@ void finishPenaltyResult(double timestep, PenaltyResult& io) {
   io.torqueOnField = io.angularImpulseOnField * inverse;
 }
 
-}  // namespace
-
+/// perAreaCoefficients; with `endLookups`, also phi and the gradient at each contact's end position, in contact
+/// order (filled whenever the contacts' gradients are taken: empty if it returned before).
 template <class Field>
-PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
-                                             const RigidCcdResult& ccd, const ShellMotion& shell,
-                                             const FieldMotion& fieldBody, double timestep,
-                                             const PenaltySettings& settings, PenaltyRoleInput& io) {
+PairResponseCoefficients perAreaCoefficientsImpl(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                                 const RigidCcdResult& ccd, const ShellMotion& shell,
+                                                 const FieldMotion& fieldBody, double timestep,
+                                                 const PenaltySettings& settings, PenaltyRoleInput& io,
+                                                 std::vector<EndLookup>* endLookups) {
+  if (endLookups != nullptr) endLookups->clear();
   PairResponseCoefficients out;
   io.stiffnessPerArea = 0.0;
   io.dampingPerStiffness = -1.0;
@@ -333,7 +359,17 @@ PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInSh
     const Vec3 pointInWorld = shell.worldFromShellEnd * pointsInShell[i];
     roleStiffness += k;
     centroid += k * pointInWorld;
-    const Vec3 gradient = worldFromSdfEnd * field.gradient(sdfFromWorldEnd * pointInWorld);
+    // The point is the path's pointInSdfEnd (makePenaltyPointPath: the same expression), so a lookup kept here
+    // serves the anchor's end-of-step update too.
+    const Vec3 pointInSdf = sdfFromWorldEnd * pointInWorld;
+    Vec3 gradientInSdf;
+    if (endLookups != nullptr) {
+      endLookups->push_back(lookUpEnd(field, pointInSdf));
+      gradientInSdf = endLookups->back().gradient;
+    } else {
+      gradientInSdf = field.gradient(pointInSdf);
+    }
+    const Vec3 gradient = worldFromSdfEnd * gradientInSdf;
     if (gradient.allFinite()) normalSum += k * gradient;
   }
   if (!(roleStiffness > 0.0)) return out;
@@ -351,10 +387,13 @@ PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInSh
   return out;
 }
 
+/// integratePenalty; `endLookups` (null, or one per contact: perAreaCoefficientsImpl's) spare the anchors' update
+/// its lookups.
 template <class Field>
-PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
-                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
-                               const PenaltySettings& settings, const PenaltyRoleInput& input) {
+PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                   const RigidCcdResult& ccd, const ShellMotion& shell, const FieldMotion& fieldBody,
+                                   double timestep, const PenaltySettings& settings, const PenaltyRoleInput& input,
+                                   const EndLookup* endLookups) {
   checkPenaltyInput(pointsInShell.size(), ccd, timestep, settings);
   PenaltyResult result;
   const bool perArea = input.stiffnessPerArea > 0.0 && input.areas != nullptr;
@@ -374,7 +413,8 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   const int pieces = std::max(1, settings.subintervals);
   if (anchored) input.anchors->beginMatch();
   const PenaltyPathFrames frames(shell, fieldBody);
-  for (const PointContact& contact : ccd.contacts) {
+  for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
+    const PointContact& contact = ccd.contacts[n];
     const std::size_t index = static_cast<std::size_t>(contact.point);
     PenaltyPointPath path =
         makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, fieldBody, frames);
@@ -410,9 +450,23 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
     if (pushed) ++result.contactCount;
     if (anchored) {
       // End of the step: the anchor slips if the spring's normal force at the end cannot hold its stretch.
-      const double depth = field.distance(path.pointInSdfEnd) - settings.sigma;
-      const Vec3 normalInWorld =
-          depth < 0.0 ? penaltyDirection(field, path, 1.0, depth, settings, input.cellSize) : Vec3::Zero();
+      // phi at the end position and, for the direction, the gradient at lerp(start, end, 1): the same point
+      // unless rounding moved it (then looked up there), one lookup for both (or none: perAreaCoefficients').
+      EndLookup end;
+      bool hasGradient = true;
+      if (endLookups != nullptr) {
+        end = endLookups[n];
+      } else {
+        end.distance = distanceWithGradient(field, path.pointInSdfEnd, end.gradient, hasGradient);
+      }
+      const double depth = end.distance - settings.sigma;
+      Vec3 normalInWorld = Vec3::Zero();
+      if (depth < 0.0) {
+        const bool atEnd =
+            hasGradient && sameBits(lerp(path.pointInSdfStart, path.pointInSdfEnd, 1.0), path.pointInSdfEnd);
+        normalInWorld =
+            penaltyDirection(field, path, 1.0, depth, settings, input.cellSize, atEnd ? &end.gradient : nullptr);
+      }
       FrictionSettings law;
       law.friction = settings.friction;
       law.tangentialStiffness = path.stiffness;
@@ -431,6 +485,40 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   return result;
 }
 
+}  // namespace
+
+template <class Field>
+PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                             const RigidCcdResult& ccd, const ShellMotion& shell,
+                                             const FieldMotion& fieldBody, double timestep,
+                                             const PenaltySettings& settings, PenaltyRoleInput& io) {
+  return perAreaCoefficientsImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, io, nullptr);
+}
+
+template <class Field>
+PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
+                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
+                               const PenaltySettings& settings, const PenaltyRoleInput& input) {
+  return integratePenaltyImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, input, nullptr);
+}
+
+template <class Field>
+PenaltyResult integratePenaltyWithCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                               const RigidCcdResult& ccd, const ShellMotion& shell,
+                                               const FieldMotion& fieldBody, double timestep,
+                                               const PenaltySettings& settings, PenaltyRoleInput& io,
+                                               PairResponseCoefficients& outCoefficients) {
+  // The lookups are kept only when the anchors' update will read them (integratePenaltyImpl's `anchored`).
+  const bool anchored = settings.enableFriction && settings.friction > 0.0 &&
+                        settings.frictionModel == FrictionModel::Anchor && io.anchors != nullptr;
+  thread_local std::vector<EndLookup> endLookups;
+  outCoefficients = perAreaCoefficientsImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, io,
+                                            anchored ? &endLookups : nullptr);
+  const bool shared = anchored && endLookups.size() == ccd.contacts.size() && !ccd.contacts.empty();
+  return integratePenaltyImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, io,
+                              shared ? endLookups.data() : nullptr);
+}
+
 template <class Field>
 PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
                                const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
@@ -447,7 +535,10 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
                                                  const PenaltySettings&, const PenaltyRoleInput&);                   \
   template PairResponseCoefficients perAreaCoefficients<Field>(                                                      \
       const std::vector<Vec3>&, const Field&, const RigidCcdResult&, const ShellMotion&, const FieldMotion&, double, \
-      const PenaltySettings&, PenaltyRoleInput&);
+      const PenaltySettings&, PenaltyRoleInput&);                                                                    \
+  template PenaltyResult integratePenaltyWithCoefficients<Field>(                                                    \
+      const std::vector<Vec3>&, const Field&, const RigidCcdResult&, const ShellMotion&, const FieldMotion&, double, \
+      const PenaltySettings&, PenaltyRoleInput&, PairResponseCoefficients&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 #undef SDFCCD_INSTANTIATE_PENALTY
