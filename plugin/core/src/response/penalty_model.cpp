@@ -70,10 +70,28 @@ struct PenaltyPointPath {
   double damping = 0.0;                       // c_i, N s/m
   std::size_t anchor = 0;                     // index in the anchor table (anchor friction)
   bool fieldTurns = true;                     // worldFromSdfStart != worldFromSdfEnd
+  bool fieldStill = false;                    // PenaltyPathFrames::fieldStill
+  const Vec3* constantAway = nullptr;         // PenaltyPathFrames::awayUnit when constant, else null
 };
 
 Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
   return a + t * (b - a);
+}
+
+/// Is x -0.0?
+bool negativeZero(double x) {
+  return x == 0.0 && std::signbit(x);
+}
+
+/// Does a + t (b - a) give a, bit for bit, for every t in [0, 1]? It does when b is a bit for bit, finite and
+/// without -0: b - a is then +0, t (+0) is +0, and a + (+0) is a (only -0 + +0 would change: to +0).
+template <class Matrix>
+bool lerpStaysAt(const Matrix& a, const Matrix& b) {
+  if (std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) != 0) return false;
+  for (Eigen::Index k = 0; k < a.size(); ++k) {
+    if (!std::isfinite(a.data()[k]) || negativeZero(a.data()[k])) return false;
+  }
+  return true;
 }
 
 /// What every contact's path of one role shares, computed once per role instead of once per contact (the same
@@ -82,6 +100,13 @@ struct PenaltyPathFrames {
   Rigid sdfFromWorldStart, sdfFromWorldEnd;
   Vec3 shellComStart, shellComEnd;  // world
   Vec3 fieldComStart, fieldComEnd;  // world
+  /// The field's rotation interpolates to its start value at every t in [0, 1] (lerpStaysAt: a static field, a
+  /// field body that only translates): the anchors' stretch needs no interpolated matrix.
+  bool fieldStill = false;
+  /// Set (setConstantAway) when the direction away from the field, -grad phi / |grad phi| in world, is the same
+  /// at every sample: a plane that does not turn. penaltyDirection then skips its product and normalization.
+  bool constantAway = false;
+  Vec3 awayUnit = Vec3::Zero();
 
   PenaltyPathFrames(const ShellMotion& shell, const FieldMotion& fieldBody)
       : sdfFromWorldStart(fieldBody.worldFromSdfStart.inverse()),
@@ -89,8 +114,35 @@ struct PenaltyPathFrames {
         shellComStart(shell.worldFromShellStart * shell.centerOfMassInShell),
         shellComEnd(shell.worldFromShellEnd * shell.centerOfMassInShell),
         fieldComStart(fieldBody.worldFromSdfStart * fieldBody.centerOfMassInSdf),
-        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf) {}
+        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf) {
+    const Mat3 start = fieldBody.worldFromSdfStart.linear();
+    const Mat3 end = fieldBody.worldFromSdfEnd.linear();
+    fieldStill = lerpStaysAt(start, end);
+  }
 };
+
+/// A plane's gradient is its normal everywhere: for a still field, penaltyDirection's away vector
+/// -lerp(R n, R n, t) is -(R n) at every t (lerpStaysAt), normalized once here with the very operations it
+/// applies per sample. Other fields, or a product with a -0 or non-finite component, keep the per-sample path.
+template <class Field>
+void setConstantAway(const Field& field, const FieldMotion& fieldBody, PenaltyPathFrames& frames) {
+  if constexpr (std::is_same_v<Field, PlaneField>) {
+    if (!frames.fieldStill) return;
+    const Mat3 worldFromSdf = fieldBody.worldFromSdfStart.linear();
+    const Vec3 awayStart = worldFromSdf * field.gradient(Vec3::Zero());
+    if (!lerpStaysAt(awayStart, awayStart)) return;
+    Vec3 away = -awayStart;
+    const double awayLength = away.norm();
+    if (!(away.allFinite() && awayLength > 0.0)) return;
+    away /= awayLength;
+    frames.awayUnit = away;
+    frames.constantAway = true;
+  } else {
+    (void)field;
+    (void)fieldBody;
+    (void)frames;
+  }
+}
 
 PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
                                       const FieldMotion& fieldBody, const PenaltyPathFrames& frames) {
@@ -108,6 +160,8 @@ PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& norm
   path.worldFromSdfStart = fieldBody.worldFromSdfStart.linear();
   path.worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
   path.fieldTurns = path.worldFromSdfStart != path.worldFromSdfEnd;
+  path.fieldStill = frames.fieldStill;
+  path.constantAway = frames.constantAway ? &frames.awayUnit : nullptr;
   return path;
 }
 
@@ -165,15 +219,22 @@ Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t
       w = x * x * (3.0 - 2.0 * x);
     }
     if (w < 1.0) {
-      const Vec3 gradientInSdf =
-          gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
-      // A field body that does not turn during the step (a static one, always) has one product, not two.
-      const Vec3 awayStart = path.worldFromSdfStart * gradientInSdf;
-      const Vec3 awayEnd = path.fieldTurns ? Vec3(path.worldFromSdfEnd * gradientInSdf) : awayStart;
-      Vec3 away = -lerp(awayStart, awayEnd, t);
-      const double awayLength = away.norm();
-      if (away.allFinite() && awayLength > 0.0) {  // else: the shell normal (a flat spot of phi)
-        away /= awayLength;
+      Vec3 away;
+      bool hasAway = true;
+      if (path.constantAway != nullptr && t >= 0.0 && t <= 1.0) {
+        away = *path.constantAway;  // a still plane: what the lines below give, computed once (setConstantAway)
+      } else {
+        const Vec3 gradientInSdf =
+            gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
+        // A field body that does not turn during the step (a static one, always) has one product, not two.
+        const Vec3 awayStart = path.worldFromSdfStart * gradientInSdf;
+        const Vec3 awayEnd = path.fieldTurns ? Vec3(path.worldFromSdfEnd * gradientInSdf) : awayStart;
+        away = -lerp(awayStart, awayEnd, t);
+        const double awayLength = away.norm();
+        hasAway = away.allFinite() && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
+        if (hasAway) away /= awayLength;
+      }
+      if (hasAway) {
         const double shellLength = shellNormal.norm();
         const Vec3 blended = shellLength > 0.0 ? Vec3((1.0 - w) * away + w * (shellNormal / shellLength)) : away;
         if (blended.norm() > 1e-6) normal = blended;  // opposed directions: the shell normal
@@ -293,7 +354,11 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
     ++io.frictionEvaluations;
     if (settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr) {
       // The stretch from the anchor, fixed in the field's frame, taken to world with the field's rotation at t.
-      const Mat3 worldFromSdf = path.worldFromSdfStart + t * (path.worldFromSdfEnd - path.worldFromSdfStart);
+      // A still field's rotation interpolates to its start value (lerpStaysAt): no matrix to interpolate.
+      const Mat3 worldFromSdf =
+          path.fieldStill && t >= 0.0 && t <= 1.0
+              ? path.worldFromSdfStart
+              : Mat3(path.worldFromSdfStart + t * (path.worldFromSdfEnd - path.worldFromSdfStart));
       const Vec3 stretchInWorld = worldFromSdf * (pointInSdf - input.anchors->anchors()[path.anchor].anchorInField);
       FrictionSettings law;
       law.friction = settings.friction;
@@ -412,7 +477,8 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
   PairDamping* rayleigh = useDamping && input.dampingPerStiffness > 0.0 && !discrete ? &pairDamping : nullptr;
   const int pieces = std::max(1, settings.subintervals);
   if (anchored) input.anchors->beginMatch();
-  const PenaltyPathFrames frames(shell, fieldBody);
+  PenaltyPathFrames frames(shell, fieldBody);
+  setConstantAway(field, fieldBody, frames);
   for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
     const PointContact& contact = ccd.contacts[n];
     const std::size_t index = static_cast<std::size_t>(contact.point);
