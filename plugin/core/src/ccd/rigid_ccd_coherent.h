@@ -326,8 +326,11 @@ class CoherentQuery {
           emit(e, next);
           continue;
         }
+        // The certificate looked phi up at the centre's end position, and a node's centre is its point, copied
+        // (PointTree::center): that is the contact's phi at the end (queryPoint's endOf(x)), not looked up again.
+        const bool phiKnown = e.kind == RigidCcdCoherence::Kind::Phi;
         const std::size_t before = out.contacts.size();
-        m_query.queryPoint(point, m_segment, out.contacts, out.stats);
+        m_query.queryPoint(point, m_segment, out.contacts, out.stats, phiKnown ? &e.clearance : nullptr);
         if (out.contacts.size() > before) {
           emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);
         } else {

@@ -168,9 +168,10 @@ class RigidCcdQuery {
     return scratch.hit();
   }
 
-  /// The query of one point; appends a contact when it touches.
-  void queryPoint(int point, SegmentCcdResult& scratch, std::vector<PointContact>& outContacts,
-                  RigidCcdStats& stats) const {
+  /// The query of one point; appends a contact when it touches. `phiAtEnd`: m_field.distance(endOf(x)) when the
+  /// caller has it already (the coherent query's certificate of the leaf), spares the contact's end lookup.
+  void queryPoint(int point, SegmentCcdResult& scratch, std::vector<PointContact>& outContacts, RigidCcdStats& stats,
+                  const double* phiAtEnd = nullptr) const {
     const Vec3& x = m_tree.shell().positions[point];
     const Vec3 p0 = startOf(x);
     const Vec3 p1 = endOf(x);
@@ -183,7 +184,7 @@ class RigidCcdQuery {
     contact.state = scratch.state;
     contact.fraction = scratch.fraction;
     contact.intervals = scratch.intervals;
-    contact.depthAtEnd = m_field.distance(p1) - m_settings.sigma;
+    contact.depthAtEnd = (phiAtEnd != nullptr ? *phiAtEnd : m_field.distance(p1)) - m_settings.sigma;
     contact.fieldNormalInSdf = scratch.normal;
     contact.pointNormalInShell = m_tree.shell().normals[point];
   }
