@@ -74,8 +74,17 @@ struct PenaltyPointPath {
   const Vec3* constantAway = nullptr;         // PenaltyPathFrames::awayUnit when constant, else null
 };
 
+/// a + t (b - a), component by component: the very operations (so the very bits) of the Eigen expression, which
+/// the compiler left out of line, a call per lerp in the sampling loop (a sample takes up to eight).
 Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
-  return a + t * (b - a);
+  return Vec3(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()));
+}
+
+/// The same for a matrix, entry by entry.
+Mat3 lerp(const Mat3& a, const Mat3& b, double t) {
+  Mat3 out;
+  for (int k = 0; k < 9; ++k) out.data()[k] = a.data()[k] + t * (b.data()[k] - a.data()[k]);
+  return out;
 }
 
 /// Is x -0.0?
@@ -355,10 +364,9 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
     if (settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr) {
       // The stretch from the anchor, fixed in the field's frame, taken to world with the field's rotation at t.
       // A still field's rotation interpolates to its start value (lerpStaysAt): no matrix to interpolate.
-      const Mat3 worldFromSdf =
-          path.fieldStill && t >= 0.0 && t <= 1.0
-              ? path.worldFromSdfStart
-              : Mat3(path.worldFromSdfStart + t * (path.worldFromSdfEnd - path.worldFromSdfStart));
+      const Mat3 worldFromSdf = path.fieldStill && t >= 0.0 && t <= 1.0
+                                    ? path.worldFromSdfStart
+                                    : lerp(path.worldFromSdfStart, path.worldFromSdfEnd, t);
       const Vec3 stretchInWorld = worldFromSdf * (pointInSdf - input.anchors->anchors()[path.anchor].anchorInField);
       FrictionSettings law;
       law.friction = settings.friction;
