@@ -26,6 +26,19 @@ inline bool finiteEntries(const double* v, int n) {
   return true;
 }
 
+/// One body's frames as a penalty role's input takes them (penalty_role.h: fillPenaltyInput), for one pair of child
+/// frames (the keys: the frames' addresses, which stay put through the step).
+namespace detail {
+struct RoleFrames {
+  bool set = false;
+  const Rigid* key0 = nullptr;  // the shell's child frame, or the field's child frame
+  const Rigid* key1 = nullptr;  // the field's frame in its child (null for the shell)
+  Rigid worldFromStart = Rigid::Identity();
+  Rigid worldFromEnd = Rigid::Identity();
+  Vec3 centerOfMass = Vec3::Zero();
+};
+}  // namespace detail
+
 /// The motion of one collision object over the current step (motion_prediction.h).
 struct SdfccdContactSystem::BodyStep {
   const btCollisionObject* object = nullptr;
@@ -39,6 +52,12 @@ struct SdfccdContactSystem::BodyStep {
   double contactMassScale = 1.0;
   double clampFraction = 1.0;
   bool clamped = false;
+  /// The frames of this body's roles as shell and as field, computed by the first role queued in the step and kept
+  /// for the roles with the same child frames (keptShellFrames, keptFieldFrames): every body takes part in many
+  /// roles, each of which computed the same products. Written once, on the stepping thread, before a role that
+  /// reads it is queued; never changed after.
+  detail::RoleFrames shellFrames;
+  detail::RoleFrames fieldFrames;
 
   /// The poses' and velocities' entries all finite (Eigen's allFinite(), the same answer, was out of line and ran
   /// for both bodies of every pair).
