@@ -59,6 +59,8 @@ struct SdfccdContactSystem::BodyStep {
   detail::RoleFrames shellFrames;
   detail::RoleFrames fieldFrames;
 
+  bool finiteState = true;  // finite(), taken once when the step is made (the poses and velocities do not change)
+
   /// The poses' and velocities' entries all finite (Eigen's allFinite(), the same answer, was out of line and ran
   /// for both bodies of every pair).
   bool finite() const {

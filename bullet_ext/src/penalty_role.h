@@ -168,20 +168,28 @@ void fillPenaltyInput(const PenaltyRoleFacts<Body>& f, PenaltyRoleInput& in) {
   // looks at the current poses: nothing moves.
   // A compound child's frame sits at bodyFromChild in its body; handles go from the body's centre of mass.
   // The frames: kept ones (the same expressions, computed once per body and step) or this role's own.
-  const RoleFrames shellFrames =
-      f.shellFrames != nullptr ? *f.shellFrames : shellFramesOf(shell, *f.bodyFromShellChild);
+  RoleFrames ownShellFrames;
+  const RoleFrames* shellFrames = f.shellFrames;
+  if (shellFrames == nullptr) {
+    ownShellFrames = shellFramesOf(shell, *f.bodyFromShellChild);
+    shellFrames = &ownShellFrames;
+  }
   ShellMotion& shellMotion = in.shellMotion;
-  shellMotion.worldFromShellStart = shellFrames.worldFromStart;
-  shellMotion.worldFromShellEnd = f.closestPointsOnly ? shellMotion.worldFromShellStart : shellFrames.worldFromEnd;
-  shellMotion.centerOfMassInShell = shellFrames.centerOfMass;
+  shellMotion.worldFromShellStart = shellFrames->worldFromStart;
+  shellMotion.worldFromShellEnd = f.closestPointsOnly ? shellMotion.worldFromShellStart : shellFrames->worldFromEnd;
+  shellMotion.centerOfMassInShell = shellFrames->centerOfMass;
   shellMotion.velocity = shell.velocity;
   shellMotion.mass = shell.mass;
-  const RoleFrames fieldFrames =
-      f.fieldFrames != nullptr ? *f.fieldFrames : fieldFramesOf(fieldBody, *f.bodyFromFieldChild, *f.bodyFromField);
+  RoleFrames ownFieldFrames;
+  const RoleFrames* fieldFrames = f.fieldFrames;
+  if (fieldFrames == nullptr) {
+    ownFieldFrames = fieldFramesOf(fieldBody, *f.bodyFromFieldChild, *f.bodyFromField);
+    fieldFrames = &ownFieldFrames;
+  }
   FieldMotion& fieldMotion = in.fieldMotion;
-  fieldMotion.worldFromSdfStart = fieldFrames.worldFromStart;
-  fieldMotion.worldFromSdfEnd = f.closestPointsOnly ? fieldMotion.worldFromSdfStart : fieldFrames.worldFromEnd;
-  fieldMotion.centerOfMassInSdf = fieldFrames.centerOfMass;
+  fieldMotion.worldFromSdfStart = fieldFrames->worldFromStart;
+  fieldMotion.worldFromSdfEnd = f.closestPointsOnly ? fieldMotion.worldFromSdfStart : fieldFrames->worldFromEnd;
+  fieldMotion.centerOfMassInSdf = fieldFrames->centerOfMass;
   fieldMotion.velocity = fieldBody.velocity;
   fieldMotion.mass = fieldBody.mass;
 

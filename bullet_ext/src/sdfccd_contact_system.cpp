@@ -72,6 +72,7 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   step.velocity = motion.velocity;
   step.mass = motion.mass;
   if (contactMass) applyContactMass(step, timeStep);  // not for a closest-point query: it changes velocities
+  step.finiteState = step.finite();
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -173,7 +174,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
       static_cast<std::size_t>(&bodyStep(wrap1, timeStep, !closestPointsOnly && !solver) - m_bodies.data());
   // A body with a non-finite state (set by the user; Bullet integrates whatever it is given) takes part in
   // no contact: its impulses would carry the NaN into the other body.
-  if (!m_bodies[index0].finite() || !m_bodies[index1].finite()) {
+  if (!m_bodies[index0].finiteState || !m_bodies[index1].finiteState) {
     if (!m_planning) ++m_stats.nonFinitePairs;
     if (closestPointsOnly) {
       m_bodies.swap(savedBodies);
