@@ -4,6 +4,7 @@
 /// shared by the narrowphase (sdfccd_contact_system.cpp) and the response (sdfccd_contact_response.cpp).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -16,6 +17,27 @@
 class btRigidBody;
 
 namespace sdfccd {
+
+/// Every one of the n values finite: Eigen's allFinite(), the same answer, in plain scalar code.
+inline bool finiteEntries(const double* v, int n) {
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(v[k])) return false;
+  }
+  return true;
+}
+
+/// One body's frames as a penalty role's input takes them (penalty_role.h: fillPenaltyInput), for one pair of child
+/// frames (the keys: the frames' addresses, which stay put through the step).
+namespace detail {
+struct RoleFrames {
+  bool set = false;
+  const Rigid* key0 = nullptr;  // the shell's child frame, or the field's child frame
+  const Rigid* key1 = nullptr;  // the field's frame in its child (null for the shell)
+  Rigid worldFromStart = Rigid::Identity();
+  Rigid worldFromEnd = Rigid::Identity();
+  Vec3 centerOfMass = Vec3::Zero();
+};
+}  // namespace detail
 
 /// The motion of one collision object over the current step (motion_prediction.h).
 struct SdfccdContactSystem::BodyStep {
@@ -30,9 +52,21 @@ struct SdfccdContactSystem::BodyStep {
   double contactMassScale = 1.0;
   double clampFraction = 1.0;
   bool clamped = false;
+  /// The frames of this body's roles as shell and as field, computed by the first role queued in the step and kept
+  /// for the roles with the same child frames (keptShellFrames, keptFieldFrames): every body takes part in many
+  /// roles, each of which computed the same products. Written once, on the stepping thread, before a role that
+  /// reads it is queued; never changed after.
+  detail::RoleFrames shellFrames;
+  detail::RoleFrames fieldFrames;
 
+  bool finiteState = true;  // finite(), taken once when the step is made (the poses and velocities do not change)
+
+  /// The poses' and velocities' entries all finite (Eigen's allFinite(), the same answer, was out of line and ran
+  /// for both bodies of every pair).
   bool finite() const {
-    return worldFromBodyStart.matrix().allFinite() && worldFromBodyEnd.matrix().allFinite() && velocity.allFinite();
+    return finiteEntries(worldFromBodyStart.data(), 16) && finiteEntries(worldFromBodyEnd.data(), 16) &&
+           finiteEntries(velocity.linearStart.data(), 3) && finiteEntries(velocity.linearEnd.data(), 3) &&
+           finiteEntries(velocity.angularStart.data(), 3) && finiteEntries(velocity.angularEnd.data(), 3);
   }
 };
 

@@ -68,6 +68,8 @@ struct PenaltyRoleFacts {
   const Rigid* bodyFromField = nullptr;      // the field's frame in its body
   const PenaltySettings* penalty = nullptr;  // the pair's penalty parameters (per-body overrides combined)
   FrictionAnchorTable* anchors = nullptr;    // this pair and role's, kept across steps (may be null)
+  const RoleFrames* shellFrames = nullptr;   // the shell body's frames for bodyFromShellChild, when kept (else null)
+  const RoleFrames* fieldFrames = nullptr;   // the field body's, for bodyFromFieldChild and bodyFromField
   RigidCcdCoherence* coherence = nullptr;
   std::size_t shellIndex = 0;  // body indices, for the record
   std::size_t fieldIndex = 0;
@@ -98,6 +100,63 @@ struct PenaltyRolePlan {
   PenaltyRoleFacts<Body> facts;
 };
 
+/// The identity frame that lasting frames equal to it point to (SdfccdContactSystem::lastingFrame): an address that
+/// always holds the identity, so frames kept for it stay right whatever role asks.
+inline const Rigid& identityFrame() {
+  static const Rigid kIdentity = Rigid::Identity();
+  return kIdentity;
+}
+
+/// The shell body's frames over the step for its child frame `bodyFromChild` (a compound's child; the identity else):
+/// its points' frame at the start and end, and the centre of mass in it.
+template <class Body>
+RoleFrames shellFramesOf(const Body& shell, const Rigid& bodyFromChild) {
+  RoleFrames out;
+  out.worldFromStart = shell.worldFromBodyStart * bodyFromChild;
+  out.worldFromEnd = shell.worldFromBodyEnd * bodyFromChild;
+  out.centerOfMass = bodyFromChild.inverse().translation();
+  return out;
+}
+
+/// The field body's: its field's frame at the start and end, and the centre of mass in it.
+template <class Body>
+RoleFrames fieldFramesOf(const Body& fieldBody, const Rigid& bodyFromChild, const Rigid& childFromField) {
+  const Rigid bodyFromSdf = bodyFromChild * childFromField;
+  RoleFrames out;
+  out.worldFromStart = fieldBody.worldFromBodyStart * bodyFromSdf;
+  out.worldFromEnd = fieldBody.worldFromBodyEnd * bodyFromSdf;
+  out.centerOfMass = bodyFromSdf.inverse().translation();
+  return out;
+}
+
+/// The body's kept shell frames for `bodyFromChild` (by address: give only frames whose value never changes, the
+/// identityFrame or a model's frame): computed by the first role of the step that asks, then returned to the roles
+/// that ask with the same frame; null for another frame (its role computes its own). Stepping thread only (see
+/// BodyStep::shellFrames).
+template <class Body>
+const RoleFrames* keptShellFrames(Body& shell, const Rigid* bodyFromChild) {
+  RoleFrames& kept = shell.shellFrames;
+  if (!kept.set) {
+    kept = shellFramesOf(shell, *bodyFromChild);
+    kept.key0 = bodyFromChild;
+    kept.set = true;
+  }
+  return kept.key0 == bodyFromChild ? &kept : nullptr;
+}
+
+/// The same for the field body's frames, keyed by both frames' addresses.
+template <class Body>
+const RoleFrames* keptFieldFrames(Body& fieldBody, const Rigid* bodyFromChild, const Rigid* childFromField) {
+  RoleFrames& kept = fieldBody.fieldFrames;
+  if (!kept.set) {
+    kept = fieldFramesOf(fieldBody, *bodyFromChild, *childFromField);
+    kept.key0 = bodyFromChild;
+    kept.key1 = childFromField;
+    kept.set = true;
+  }
+  return kept.key0 == bodyFromChild && kept.key1 == childFromField ? &kept : nullptr;
+}
+
 /// The role's input from its facts (the frames as queryContacts wants them: see contact_query.h).
 template <class Body>
 void fillPenaltyInput(const PenaltyRoleFacts<Body>& f, PenaltyRoleInput& in) {
@@ -108,19 +167,29 @@ void fillPenaltyInput(const PenaltyRoleFacts<Body>& f, PenaltyRoleInput& in) {
   // origin is the centre of mass); the field's frame sits at bodyFromField in its body. A closest-point query
   // looks at the current poses: nothing moves.
   // A compound child's frame sits at bodyFromChild in its body; handles go from the body's centre of mass.
+  // The frames: kept ones (the same expressions, computed once per body and step) or this role's own.
+  RoleFrames ownShellFrames;
+  const RoleFrames* shellFrames = f.shellFrames;
+  if (shellFrames == nullptr) {
+    ownShellFrames = shellFramesOf(shell, *f.bodyFromShellChild);
+    shellFrames = &ownShellFrames;
+  }
   ShellMotion& shellMotion = in.shellMotion;
-  shellMotion.worldFromShellStart = shell.worldFromBodyStart * *f.bodyFromShellChild;
-  shellMotion.worldFromShellEnd =
-      f.closestPointsOnly ? shellMotion.worldFromShellStart : Rigid(shell.worldFromBodyEnd * *f.bodyFromShellChild);
-  shellMotion.centerOfMassInShell = f.bodyFromShellChild->inverse().translation();
+  shellMotion.worldFromShellStart = shellFrames->worldFromStart;
+  shellMotion.worldFromShellEnd = f.closestPointsOnly ? shellMotion.worldFromShellStart : shellFrames->worldFromEnd;
+  shellMotion.centerOfMassInShell = shellFrames->centerOfMass;
   shellMotion.velocity = shell.velocity;
   shellMotion.mass = shell.mass;
-  const Rigid bodyFromSdf = *f.bodyFromFieldChild * *f.bodyFromField;
+  RoleFrames ownFieldFrames;
+  const RoleFrames* fieldFrames = f.fieldFrames;
+  if (fieldFrames == nullptr) {
+    ownFieldFrames = fieldFramesOf(fieldBody, *f.bodyFromFieldChild, *f.bodyFromField);
+    fieldFrames = &ownFieldFrames;
+  }
   FieldMotion& fieldMotion = in.fieldMotion;
-  fieldMotion.worldFromSdfStart = fieldBody.worldFromBodyStart * bodyFromSdf;
-  fieldMotion.worldFromSdfEnd =
-      f.closestPointsOnly ? fieldMotion.worldFromSdfStart : Rigid(fieldBody.worldFromBodyEnd * bodyFromSdf);
-  fieldMotion.centerOfMassInSdf = bodyFromSdf.inverse().translation();
+  fieldMotion.worldFromSdfStart = fieldFrames->worldFromStart;
+  fieldMotion.worldFromSdfEnd = f.closestPointsOnly ? fieldMotion.worldFromSdfStart : fieldFrames->worldFromEnd;
+  fieldMotion.centerOfMassInSdf = fieldFrames->centerOfMass;
   fieldMotion.velocity = fieldBody.velocity;
   fieldMotion.mass = fieldBody.mass;
 

@@ -72,6 +72,7 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   step.velocity = motion.velocity;
   step.mass = motion.mass;
   if (contactMass) applyContactMass(step, timeStep);  // not for a closest-point query: it changes velocities
+  step.finiteState = step.finite();
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -173,7 +174,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
       static_cast<std::size_t>(&bodyStep(wrap1, timeStep, !closestPointsOnly && !solver) - m_bodies.data());
   // A body with a non-finite state (set by the user; Bullet integrates whatever it is given) takes part in
   // no contact: its impulses would carry the NaN into the other body.
-  if (!m_bodies[index0].finite() || !m_bodies[index1].finite()) {
+  if (!m_bodies[index0].finiteState || !m_bodies[index1].finiteState) {
     if (!m_planning) ++m_stats.nonFinitePairs;
     if (closestPointsOnly) {
       m_bodies.swap(savedBodies);
@@ -373,6 +374,16 @@ void SdfccdContactSystem::queuePenaltyRole(const Role& role, const Field& field,
   plan.facts.bodyFromShellChild = lastingFrame(role.bodyFromShellChild, nullptr);
   plan.facts.bodyFromFieldChild = lastingFrame(role.bodyFromFieldChild, nullptr);
   plan.facts.bodyFromField = lastingFrame(role.bodyFromField, role.modelBodyFromField);
+  // The bodies' frames, kept for the step's other roles of the same bodies, when the child frames are ones whose
+  // value never changes (the identity, the model's field frame; not a stashed copy, whose address may be reused).
+  const Rigid* identity = &detail::identityFrame();
+  if (plan.facts.bodyFromShellChild == identity) {
+    plan.facts.shellFrames = detail::keptShellFrames(m_bodies[role.shell], identity);
+  }
+  if (plan.facts.bodyFromFieldChild == identity && role.modelBodyFromField != nullptr &&
+      plan.facts.bodyFromField == role.modelBodyFromField) {
+    plan.facts.fieldFrames = detail::keptFieldFrames(m_bodies[role.field], identity, role.modelBodyFromField);
+  }
   // Without per-body overrides the pair's parameters are the world's (combinedPenalty returns them untouched).
   plan.facts.penalty =
       m_bodyContacts.empty() || role.penalty == nullptr ? &m_settings.penalty : &m_deferred->stash(*role.penalty);
@@ -388,10 +399,10 @@ void SdfccdContactSystem::queuePenaltyRole(const Role& role, const Field& field,
 }
 
 const Rigid* SdfccdContactSystem::lastingFrame(const Rigid& frame, const Rigid* kept) {
-  static const Rigid kIdentity = Rigid::Identity();
+  const Rigid& identity = detail::identityFrame();
   if (kept != nullptr) return kept;
   // Bit for bit: the job then computes with exactly these values.
-  if (std::memcmp(frame.data(), kIdentity.data(), sizeof(double) * 16) == 0) return &kIdentity;
+  if (std::memcmp(frame.data(), identity.data(), sizeof(double) * 16) == 0) return &identity;
   return &m_deferred->stash(frame);
 }
 

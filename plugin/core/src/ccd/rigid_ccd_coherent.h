@@ -50,6 +50,12 @@ inline double rotationDistance(const Rigid& a, const Rigid& b) {
   return std::sqrt(sum);
 }
 
+/// Every entry of the pose finite: matrix().allFinite(), the same answer, in scalar code (finiteValues): Eigen's was
+/// a quarter of the whole-front test that most pairs of a pile end at (coherentFrontClear).
+inline bool finitePose(const Rigid& pose) {
+  return finiteValues(pose.data(), 16);
+}
+
 /// |t_a - t_b|.
 inline double translationDistance(const Rigid& a, const Rigid& b) {
   const double x = a.translation().x() - b.translation().x();
@@ -128,7 +134,7 @@ bool coherentFrontClear(const RigidCcdCoherence& c, const PointTree& tree, const
                         const RigidCcdSettings& settings, const Rigid& start, const Rigid& end) {
   if (!c.frontCertified || c.front.empty() || c.poses.empty()) return false;
   if (!coherenceMatches(c, tree, field, settings.sigma, fieldCullingBounds(field).lipschitz)) return false;
-  if (!start.matrix().allFinite() || !end.matrix().allFinite() || !std::isfinite(settings.sigma)) return false;
+  if (!finitePose(start) || !finitePose(end) || !std::isfinite(settings.sigma)) return false;
   // The newest kept pose is the last full query's end: its copy in the history itself (lastEnd) spares a cache
   // miss on the poses' buffer in a world of many pairs.
   const PoseMotion m = motionSince(c.lastEndValid ? c.lastEnd : c.poses.back(), start, end);
@@ -316,8 +322,11 @@ class CoherentQuery {
           emit(e, next);
           continue;
         }
+        // The certificate looked phi up at the centre's end position, and a node's centre is its point, copied
+        // (PointTree::center): that is the contact's phi at the end (queryPoint's endOf(x)), not looked up again.
+        const bool phiKnown = e.kind == RigidCcdCoherence::Kind::Phi;
         const std::size_t before = out.contacts.size();
-        m_query.queryPoint(point, m_segment, out.contacts, out.stats);
+        m_query.queryPoint(point, m_segment, out.contacts, out.stats, phiKnown ? &e.clearance : nullptr);
         if (out.contacts.size() > before) {
           emit({node, -1, 0.0, 0.0, RigidCcdCoherence::Kind::None}, next);
         } else {

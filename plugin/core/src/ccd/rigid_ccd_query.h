@@ -64,6 +64,15 @@ inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box, doubl
   return true;
 }
 
+/// Every one of the n values finite: Eigen's allFinite() (the same answer) in plain scalar code, which it was not
+/// (out of line, two subtractions and a comparison per entry) in the per-query checks of a pile's many pairs.
+inline bool finiteValues(const double* v, int n) {
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(v[k])) return false;
+  }
+  return true;
+}
+
 template <class Field>
 class RigidCcdQuery {
  public:
@@ -77,7 +86,8 @@ class RigidCcdQuery {
         m_t0(sdfFromShellStart.translation()),
         m_t1(sdfFromShellEnd.translation()),
         m_bounds(fieldCullingBounds(field)) {
-    if (!m_r0.allFinite() || !m_r1.allFinite() || !m_t0.allFinite() || !m_t1.allFinite()) {
+    if (!finiteValues(m_r0.data(), 9) || !finiteValues(m_r1.data(), 9) || !finiteValues(m_t0.data(), 3) ||
+        !finiteValues(m_t1.data(), 3)) {
       throw Error("rigidCcd: non-finite transform");
     }
     if (!std::isfinite(settings.sigma)) throw Error("rigidCcd: non-finite sigma");
@@ -168,9 +178,10 @@ class RigidCcdQuery {
     return scratch.hit();
   }
 
-  /// The query of one point; appends a contact when it touches.
-  void queryPoint(int point, SegmentCcdResult& scratch, std::vector<PointContact>& outContacts,
-                  RigidCcdStats& stats) const {
+  /// The query of one point; appends a contact when it touches. `phiAtEnd`: m_field.distance(endOf(x)) when the
+  /// caller has it already (the coherent query's certificate of the leaf), spares the contact's end lookup.
+  void queryPoint(int point, SegmentCcdResult& scratch, std::vector<PointContact>& outContacts, RigidCcdStats& stats,
+                  const double* phiAtEnd = nullptr) const {
     const Vec3& x = m_tree.shell().positions[point];
     const Vec3 p0 = startOf(x);
     const Vec3 p1 = endOf(x);
@@ -183,7 +194,7 @@ class RigidCcdQuery {
     contact.state = scratch.state;
     contact.fraction = scratch.fraction;
     contact.intervals = scratch.intervals;
-    contact.depthAtEnd = m_field.distance(p1) - m_settings.sigma;
+    contact.depthAtEnd = (phiAtEnd != nullptr ? *phiAtEnd : m_field.distance(p1)) - m_settings.sigma;
     contact.fieldNormalInSdf = scratch.normal;
     contact.pointNormalInShell = m_tree.shell().normals[point];
   }

@@ -57,10 +57,8 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
   input.cellSize = settings.cellSize;
   input.anchors = settings.anchors;
   input.areas = &shellTree.shell().areas;
-  outResult.coefficients =
-      perAreaCoefficients(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep, settings.penalty, input);
-  outResult.penalty =
-      integratePenalty(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep, settings.penalty, input);
+  outResult.penalty = integratePenaltyWithCoefficients(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep,
+                                                       settings.penalty, input, outResult.coefficients);
   outResult.penalty.stiffnessCapped = outResult.coefficients.stiffnessCapped;
   outResult.penaltyIntegrated = true;
   if (clocks.penalty) outResult.penaltySeconds = clocks.penalty() - penaltyStart;

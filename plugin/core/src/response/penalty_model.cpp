@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <type_traits>
 
@@ -69,10 +70,37 @@ struct PenaltyPointPath {
   double damping = 0.0;                       // c_i, N s/m
   std::size_t anchor = 0;                     // index in the anchor table (anchor friction)
   bool fieldTurns = true;                     // worldFromSdfStart != worldFromSdfEnd
+  bool fieldStill = false;                    // PenaltyPathFrames::fieldStill
+  const Vec3* constantAway = nullptr;         // PenaltyPathFrames::awayUnit when constant, else null
 };
 
+/// a + t (b - a), component by component: the very operations (so the very bits) of the Eigen expression, which
+/// the compiler left out of line, a call per lerp in the sampling loop (a sample takes up to eight).
 Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
-  return a + t * (b - a);
+  return Vec3(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()));
+}
+
+/// The same for a matrix, entry by entry.
+Mat3 lerp(const Mat3& a, const Mat3& b, double t) {
+  Mat3 out;
+  for (int k = 0; k < 9; ++k) out.data()[k] = a.data()[k] + t * (b.data()[k] - a.data()[k]);
+  return out;
+}
+
+/// Is x -0.0?
+bool negativeZero(double x) {
+  return x == 0.0 && std::signbit(x);
+}
+
+/// Does a + t (b - a) give a, bit for bit, for every t in [0, 1]? It does when b is a bit for bit, finite and
+/// without -0: b - a is then +0, t (+0) is +0, and a + (+0) is a (only -0 + +0 would change: to +0).
+template <class Matrix>
+bool lerpStaysAt(const Matrix& a, const Matrix& b) {
+  if (std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) != 0) return false;
+  for (Eigen::Index k = 0; k < a.size(); ++k) {
+    if (!std::isfinite(a.data()[k]) || negativeZero(a.data()[k])) return false;
+  }
+  return true;
 }
 
 /// What every contact's path of one role shares, computed once per role instead of once per contact (the same
@@ -81,6 +109,13 @@ struct PenaltyPathFrames {
   Rigid sdfFromWorldStart, sdfFromWorldEnd;
   Vec3 shellComStart, shellComEnd;  // world
   Vec3 fieldComStart, fieldComEnd;  // world
+  /// The field's rotation interpolates to its start value at every t in [0, 1] (lerpStaysAt: a static field, a
+  /// field body that only translates): the anchors' stretch needs no interpolated matrix.
+  bool fieldStill = false;
+  /// Set (setConstantAway) when the direction away from the field, -grad phi / |grad phi| in world, is the same
+  /// at every sample: a plane that does not turn. penaltyDirection then skips its product and normalization.
+  bool constantAway = false;
+  Vec3 awayUnit = Vec3::Zero();
 
   PenaltyPathFrames(const ShellMotion& shell, const FieldMotion& fieldBody)
       : sdfFromWorldStart(fieldBody.worldFromSdfStart.inverse()),
@@ -88,8 +123,35 @@ struct PenaltyPathFrames {
         shellComStart(shell.worldFromShellStart * shell.centerOfMassInShell),
         shellComEnd(shell.worldFromShellEnd * shell.centerOfMassInShell),
         fieldComStart(fieldBody.worldFromSdfStart * fieldBody.centerOfMassInSdf),
-        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf) {}
+        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf) {
+    const Mat3 start = fieldBody.worldFromSdfStart.linear();
+    const Mat3 end = fieldBody.worldFromSdfEnd.linear();
+    fieldStill = lerpStaysAt(start, end);
+  }
 };
+
+/// A plane's gradient is its normal everywhere: for a still field, penaltyDirection's away vector
+/// -lerp(R n, R n, t) is -(R n) at every t (lerpStaysAt), normalized once here with the very operations it
+/// applies per sample. Other fields, or a product with a -0 or non-finite component, keep the per-sample path.
+template <class Field>
+void setConstantAway(const Field& field, const FieldMotion& fieldBody, PenaltyPathFrames& frames) {
+  if constexpr (std::is_same_v<Field, PlaneField>) {
+    if (!frames.fieldStill) return;
+    const Mat3 worldFromSdf = fieldBody.worldFromSdfStart.linear();
+    const Vec3 awayStart = worldFromSdf * field.gradient(Vec3::Zero());
+    if (!lerpStaysAt(awayStart, awayStart)) return;
+    Vec3 away = -awayStart;
+    const double awayLength = away.norm();
+    if (!(away.allFinite() && awayLength > 0.0)) return;
+    away /= awayLength;
+    frames.awayUnit = away;
+    frames.constantAway = true;
+  } else {
+    (void)field;
+    (void)fieldBody;
+    (void)frames;
+  }
+}
 
 PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
                                       const FieldMotion& fieldBody, const PenaltyPathFrames& frames) {
@@ -107,6 +169,8 @@ PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& norm
   path.worldFromSdfStart = fieldBody.worldFromSdfStart.linear();
   path.worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
   path.fieldTurns = path.worldFromSdfStart != path.worldFromSdfEnd;
+  path.fieldStill = frames.fieldStill;
+  path.constantAway = frames.constantAway ? &frames.awayUnit : nullptr;
   return path;
 }
 
@@ -125,6 +189,29 @@ double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& ou
   return field.distance(pointInSdf);
 }
 
+/// The field at a contact's end position p_sdf(1) (PenaltyPointPath::pointInSdfEnd): phi and its gradient, as
+/// field.distance and field.gradient give them there. perAreaCoefficients takes the gradient at that point and the
+/// anchors' end-of-step update phi and the gradient (integratePenaltyWithCoefficients shares them).
+struct EndLookup {
+  double distance = 0.0;
+  Vec3 gradient = Vec3::Zero();
+};
+
+/// phi and the gradient at `pointInSdf`: one cell lookup for a grid field inside its box (distanceWithGradient).
+template <class Field>
+EndLookup lookUpEnd(const Field& field, const Vec3& pointInSdf) {
+  EndLookup out;
+  bool hasGradient = false;
+  out.distance = distanceWithGradient(field, pointInSdf, out.gradient, hasGradient);
+  if (!hasGradient) out.gradient = field.gradient(pointInSdf);
+  return out;
+}
+
+/// Bitwise equality (a -0 is not a +0): a value looked up at `b` then stands for one at `a`, whatever the field.
+bool sameBits(const Vec3& a, const Vec3& b) {
+  return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0;
+}
+
 /// The unit direction the field body is pushed at fraction t, depth d (< 0); zero when there is none.
 /// `gradientAtT`: the field's gradient at the point at t when already known (else looked up).
 template <class Field>
@@ -141,15 +228,22 @@ Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t
       w = x * x * (3.0 - 2.0 * x);
     }
     if (w < 1.0) {
-      const Vec3 gradientInSdf =
-          gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
-      // A field body that does not turn during the step (a static one, always) has one product, not two.
-      const Vec3 awayStart = path.worldFromSdfStart * gradientInSdf;
-      const Vec3 awayEnd = path.fieldTurns ? Vec3(path.worldFromSdfEnd * gradientInSdf) : awayStart;
-      Vec3 away = -lerp(awayStart, awayEnd, t);
-      const double awayLength = away.norm();
-      if (away.allFinite() && awayLength > 0.0) {  // else: the shell normal (a flat spot of phi)
-        away /= awayLength;
+      Vec3 away;
+      bool hasAway = true;
+      if (path.constantAway != nullptr && t >= 0.0 && t <= 1.0) {
+        away = *path.constantAway;  // a still plane: what the lines below give, computed once (setConstantAway)
+      } else {
+        const Vec3 gradientInSdf =
+            gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
+        // A field body that does not turn during the step (a static one, always) has one product, not two.
+        const Vec3 awayStart = path.worldFromSdfStart * gradientInSdf;
+        const Vec3 awayEnd = path.fieldTurns ? Vec3(path.worldFromSdfEnd * gradientInSdf) : awayStart;
+        away = -lerp(awayStart, awayEnd, t);
+        const double awayLength = away.norm();
+        hasAway = away.allFinite() && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
+        if (hasAway) away /= awayLength;
+      }
+      if (hasAway) {
         const double shellLength = shellNormal.norm();
         const Vec3 blended = shellLength > 0.0 ? Vec3((1.0 - w) * away + w * (shellNormal / shellLength)) : away;
         if (blended.norm() > 1e-6) normal = blended;  // opposed directions: the shell normal
@@ -269,7 +363,10 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
     ++io.frictionEvaluations;
     if (settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr) {
       // The stretch from the anchor, fixed in the field's frame, taken to world with the field's rotation at t.
-      const Mat3 worldFromSdf = path.worldFromSdfStart + t * (path.worldFromSdfEnd - path.worldFromSdfStart);
+      // A still field's rotation interpolates to its start value (lerpStaysAt): no matrix to interpolate.
+      const Mat3 worldFromSdf = path.fieldStill && t >= 0.0 && t <= 1.0
+                                    ? path.worldFromSdfStart
+                                    : lerp(path.worldFromSdfStart, path.worldFromSdfEnd, t);
       const Vec3 stretchInWorld = worldFromSdf * (pointInSdf - input.anchors->anchors()[path.anchor].anchorInField);
       FrictionSettings law;
       law.friction = settings.friction;
@@ -307,13 +404,15 @@ void finishPenaltyResult(double timestep, PenaltyResult& io) {
   io.torqueOnField = io.angularImpulseOnField * inverse;
 }
 
-}  // namespace
-
+/// perAreaCoefficients; with `endLookups`, also phi and the gradient at each contact's end position, in contact
+/// order (filled whenever the contacts' gradients are taken: empty if it returned before).
 template <class Field>
-PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
-                                             const RigidCcdResult& ccd, const ShellMotion& shell,
-                                             const FieldMotion& fieldBody, double timestep,
-                                             const PenaltySettings& settings, PenaltyRoleInput& io) {
+PairResponseCoefficients perAreaCoefficientsImpl(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                                 const RigidCcdResult& ccd, const ShellMotion& shell,
+                                                 const FieldMotion& fieldBody, double timestep,
+                                                 const PenaltySettings& settings, PenaltyRoleInput& io,
+                                                 std::vector<EndLookup>* endLookups) {
+  if (endLookups != nullptr) endLookups->clear();
   PairResponseCoefficients out;
   io.stiffnessPerArea = 0.0;
   io.dampingPerStiffness = -1.0;
@@ -333,7 +432,17 @@ PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInSh
     const Vec3 pointInWorld = shell.worldFromShellEnd * pointsInShell[i];
     roleStiffness += k;
     centroid += k * pointInWorld;
-    const Vec3 gradient = worldFromSdfEnd * field.gradient(sdfFromWorldEnd * pointInWorld);
+    // The point is the path's pointInSdfEnd (makePenaltyPointPath: the same expression), so a lookup kept here
+    // serves the anchor's end-of-step update too.
+    const Vec3 pointInSdf = sdfFromWorldEnd * pointInWorld;
+    Vec3 gradientInSdf;
+    if (endLookups != nullptr) {
+      endLookups->push_back(lookUpEnd(field, pointInSdf));
+      gradientInSdf = endLookups->back().gradient;
+    } else {
+      gradientInSdf = field.gradient(pointInSdf);
+    }
+    const Vec3 gradient = worldFromSdfEnd * gradientInSdf;
     if (gradient.allFinite()) normalSum += k * gradient;
   }
   if (!(roleStiffness > 0.0)) return out;
@@ -351,10 +460,13 @@ PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInSh
   return out;
 }
 
+/// integratePenalty; `endLookups` (null, or one per contact: perAreaCoefficientsImpl's) spare the anchors' update
+/// its lookups.
 template <class Field>
-PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
-                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
-                               const PenaltySettings& settings, const PenaltyRoleInput& input) {
+PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                   const RigidCcdResult& ccd, const ShellMotion& shell, const FieldMotion& fieldBody,
+                                   double timestep, const PenaltySettings& settings, const PenaltyRoleInput& input,
+                                   const EndLookup* endLookups) {
   checkPenaltyInput(pointsInShell.size(), ccd, timestep, settings);
   PenaltyResult result;
   const bool perArea = input.stiffnessPerArea > 0.0 && input.areas != nullptr;
@@ -373,8 +485,10 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   PairDamping* rayleigh = useDamping && input.dampingPerStiffness > 0.0 && !discrete ? &pairDamping : nullptr;
   const int pieces = std::max(1, settings.subintervals);
   if (anchored) input.anchors->beginMatch();
-  const PenaltyPathFrames frames(shell, fieldBody);
-  for (const PointContact& contact : ccd.contacts) {
+  PenaltyPathFrames frames(shell, fieldBody);
+  setConstantAway(field, fieldBody, frames);
+  for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
+    const PointContact& contact = ccd.contacts[n];
     const std::size_t index = static_cast<std::size_t>(contact.point);
     PenaltyPointPath path =
         makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, fieldBody, frames);
@@ -410,9 +524,23 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
     if (pushed) ++result.contactCount;
     if (anchored) {
       // End of the step: the anchor slips if the spring's normal force at the end cannot hold its stretch.
-      const double depth = field.distance(path.pointInSdfEnd) - settings.sigma;
-      const Vec3 normalInWorld =
-          depth < 0.0 ? penaltyDirection(field, path, 1.0, depth, settings, input.cellSize) : Vec3::Zero();
+      // phi at the end position and, for the direction, the gradient at lerp(start, end, 1): the same point
+      // unless rounding moved it (then looked up there), one lookup for both (or none: perAreaCoefficients').
+      EndLookup end;
+      bool hasGradient = true;
+      if (endLookups != nullptr) {
+        end = endLookups[n];
+      } else {
+        end.distance = distanceWithGradient(field, path.pointInSdfEnd, end.gradient, hasGradient);
+      }
+      const double depth = end.distance - settings.sigma;
+      Vec3 normalInWorld = Vec3::Zero();
+      if (depth < 0.0) {
+        const bool atEnd =
+            hasGradient && sameBits(lerp(path.pointInSdfStart, path.pointInSdfEnd, 1.0), path.pointInSdfEnd);
+        normalInWorld =
+            penaltyDirection(field, path, 1.0, depth, settings, input.cellSize, atEnd ? &end.gradient : nullptr);
+      }
       FrictionSettings law;
       law.friction = settings.friction;
       law.tangentialStiffness = path.stiffness;
@@ -431,6 +559,40 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
   return result;
 }
 
+}  // namespace
+
+template <class Field>
+PairResponseCoefficients perAreaCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                             const RigidCcdResult& ccd, const ShellMotion& shell,
+                                             const FieldMotion& fieldBody, double timestep,
+                                             const PenaltySettings& settings, PenaltyRoleInput& io) {
+  return perAreaCoefficientsImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, io, nullptr);
+}
+
+template <class Field>
+PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
+                               const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
+                               const PenaltySettings& settings, const PenaltyRoleInput& input) {
+  return integratePenaltyImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, input, nullptr);
+}
+
+template <class Field>
+PenaltyResult integratePenaltyWithCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                               const RigidCcdResult& ccd, const ShellMotion& shell,
+                                               const FieldMotion& fieldBody, double timestep,
+                                               const PenaltySettings& settings, PenaltyRoleInput& io,
+                                               PairResponseCoefficients& outCoefficients) {
+  // The lookups are kept only when the anchors' update will read them (integratePenaltyImpl's `anchored`).
+  const bool anchored = settings.enableFriction && settings.friction > 0.0 &&
+                        settings.frictionModel == FrictionModel::Anchor && io.anchors != nullptr;
+  thread_local std::vector<EndLookup> endLookups;
+  outCoefficients = perAreaCoefficientsImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, io,
+                                            anchored ? &endLookups : nullptr);
+  const bool shared = anchored && endLookups.size() == ccd.contacts.size() && !ccd.contacts.empty();
+  return integratePenaltyImpl(pointsInShell, field, ccd, shell, fieldBody, timestep, settings, io,
+                              shared ? endLookups.data() : nullptr);
+}
+
 template <class Field>
 PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Field& field, const RigidCcdResult& ccd,
                                const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
@@ -447,7 +609,10 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
                                                  const PenaltySettings&, const PenaltyRoleInput&);                   \
   template PairResponseCoefficients perAreaCoefficients<Field>(                                                      \
       const std::vector<Vec3>&, const Field&, const RigidCcdResult&, const ShellMotion&, const FieldMotion&, double, \
-      const PenaltySettings&, PenaltyRoleInput&);
+      const PenaltySettings&, PenaltyRoleInput&);                                                                    \
+  template PenaltyResult integratePenaltyWithCoefficients<Field>(                                                    \
+      const std::vector<Vec3>&, const Field&, const RigidCcdResult&, const ShellMotion&, const FieldMotion&, double, \
+      const PenaltySettings&, PenaltyRoleInput&, PairResponseCoefficients&);
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 #undef SDFCCD_INSTANTIATE_PENALTY

@@ -234,6 +234,16 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
                                const ShellMotion& shell, const FieldMotion& fieldBody, double timestep,
                                const PenaltySettings& settings, const PenaltyRoleInput& input);
 
+/// perAreaCoefficients (into `outCoefficients`), then integratePenalty with the input it filled: what queryContacts
+/// runs. Bit for bit the two calls' results, cheaper with anchor friction: the gradient perAreaCoefficients takes at
+/// each contact's end position and phi there, from the same cell lookup, serve the anchors' end-of-step update.
+template <class Field>
+PenaltyResult integratePenaltyWithCoefficients(const std::vector<Vec3>& pointsInShell, const Field& field,
+                                               const RigidCcdResult& ccd, const ShellMotion& shell,
+                                               const FieldMotion& fieldBody, double timestep,
+                                               const PenaltySettings& settings, PenaltyRoleInput& io,
+                                               PairResponseCoefficients& outCoefficients);
+
 /// The checks of integratePenalty (throws sdfccd::Error).
 void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,
                        const PenaltySettings& settings);
