@@ -107,26 +107,28 @@ inline const Rigid& identityFrame() {
   return kIdentity;
 }
 
-/// The shell body's frames over the step for its child frame `bodyFromChild` (a compound's child; the identity else):
-/// its points' frame at the start and end, and the centre of mass in it.
+/// A body's frames over the step for a frame fixed in it, `bodyFromFrame`: that frame at the start and end in
+/// world, and the body's centre of mass in it.
 template <class Body>
-RoleFrames shellFramesOf(const Body& shell, const Rigid& bodyFromChild) {
+RoleFrames bodyFramesOf(const Body& body, const Rigid& bodyFromFrame) {
   RoleFrames out;
-  out.worldFromStart = shell.worldFromBodyStart * bodyFromChild;
-  out.worldFromEnd = shell.worldFromBodyEnd * bodyFromChild;
-  out.centerOfMass = bodyFromChild.inverse().translation();
+  out.worldFromStart = body.worldFromBodyStart * bodyFromFrame;
+  out.worldFromEnd = body.worldFromBodyEnd * bodyFromFrame;
+  out.centerOfMass = bodyFromFrame.inverse().translation();
   return out;
 }
 
-/// The field body's: its field's frame at the start and end, and the centre of mass in it.
+/// The shell body's frames for its child frame `bodyFromChild` (a compound's child; the identity else): its
+/// points' frame.
+template <class Body>
+RoleFrames shellFramesOf(const Body& shell, const Rigid& bodyFromChild) {
+  return bodyFramesOf(shell, bodyFromChild);
+}
+
+/// The field body's: its field's frame.
 template <class Body>
 RoleFrames fieldFramesOf(const Body& fieldBody, const Rigid& bodyFromChild, const Rigid& childFromField) {
-  const Rigid bodyFromSdf = bodyFromChild * childFromField;
-  RoleFrames out;
-  out.worldFromStart = fieldBody.worldFromBodyStart * bodyFromSdf;
-  out.worldFromEnd = fieldBody.worldFromBodyEnd * bodyFromSdf;
-  out.centerOfMass = bodyFromSdf.inverse().translation();
-  return out;
+  return bodyFramesOf(fieldBody, Rigid(bodyFromChild * childFromField));
 }
 
 /// The body's kept shell frames for `bodyFromChild` (by address: give only frames whose value never changes, the
