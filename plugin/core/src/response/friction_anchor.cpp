@@ -18,10 +18,6 @@ void checkNonNegative(double value, const char* name) {
   }
 }
 
-Vec3 tangentialPart(const Vec3& v, const Vec3& normal) {
-  return v - normal * normal.dot(v);
-}
-
 }  // namespace
 
 void FrictionSettings::validate() const {
@@ -30,27 +26,11 @@ void FrictionSettings::validate() const {
   checkNonNegative(tangentialDamping, "tangentialDamping");
 }
 
-TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
-                                const Vec3& relativeVelocityInWorld, double normalForce,
-                                const FrictionSettings& settings) {
-  TangentialForce out;
-  out.stretch = tangentialPart(pointInWorld - anchorInWorld, normalInWorld);
-  out.force = -settings.tangentialStiffness * out.stretch -
-              settings.tangentialDamping * tangentialPart(relativeVelocityInWorld, normalInWorld);
-  const double cap = settings.friction * std::max(normalForce, 0.0);
-  const double magnitude = out.force.norm();
-  if (magnitude > cap) {
-    out.force *= cap / magnitude;
-    out.state = FrictionState::Slip;
-  }
-  return out;
-}
-
 AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
                       double normalForce, const FrictionSettings& settings) {
   AnchorSlip out;
   out.anchorInField = anchorInField;
-  const Vec3 stretch = tangentialPart(pointInField - anchorInField, normalInField);
+  const Vec3 stretch = detail::tangentialPart(pointInField - anchorInField, normalInField);
   const double length = stretch.norm();
   const double elastic = settings.tangentialStiffness * length;
   const double cap = settings.friction * std::max(normalForce, 0.0);

@@ -20,6 +20,7 @@
 /// table; distinct tables may be used from distinct threads.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -51,13 +52,41 @@ struct TangentialForce {
   FrictionState state = FrictionState::Stick;  ///< Slip when the force was capped
 };
 
+namespace detail {
+
+/// v - n (n . v), the part of v perpendicular to the unit normal n, component by component (the operations of the
+/// Eigen expression, which the compiler left out of line, a call per use in the penalty sampling loop).
+inline Vec3 tangentialPart(const Vec3& v, const Vec3& normal) {
+  const double along = normal.dot(v);
+  return Vec3(v.x() - normal.x() * along, v.y() - normal.y() * along, v.z() - normal.z() * along);
+}
+
+}  // namespace detail
+
 /// F_t = -k_t s - c_t v_t, capped at mu max(F_n, 0): s = (p - a) - n (n . (p - a)), v_t likewise from v.
 /// All vectors in one frame (world in the penalty sampling loop): pointInWorld and anchorInWorld (m), unit
 /// normalInWorld, relativeVelocityInWorld of the shell point with respect to the field body at the point (m/s);
-/// normalForce F_n (N). Settings are not validated here (hot loop): validate them once per pair.
-TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
-                                const Vec3& relativeVelocityInWorld, double normalForce,
-                                const FrictionSettings& settings);
+/// normalForce F_n (N). Settings are not validated here (hot loop): validate them once per pair. Inline: the
+/// penalty model calls it at every sample.
+inline TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
+                                       const Vec3& relativeVelocityInWorld, double normalForce,
+                                       const FrictionSettings& settings) {
+  TangentialForce out;
+  out.stretch = detail::tangentialPart(pointInWorld - anchorInWorld, normalInWorld);
+  const Vec3 slip = detail::tangentialPart(relativeVelocityInWorld, normalInWorld);
+  const double stiffness = -settings.tangentialStiffness;
+  const double damping = settings.tangentialDamping;
+  out.force = Vec3(stiffness * out.stretch.x() - damping * slip.x(), stiffness * out.stretch.y() - damping * slip.y(),
+                   stiffness * out.stretch.z() - damping * slip.z());
+  const double cap = settings.friction * std::max(normalForce, 0.0);
+  const double magnitude = out.force.norm();
+  if (magnitude > cap) {
+    const double scale = cap / magnitude;
+    out.force = Vec3(out.force.x() * scale, out.force.y() * scale, out.force.z() * scale);
+    out.state = FrictionState::Slip;
+  }
+  return out;
+}
 
 /// Where an anchor moves to at the end of a step.
 struct AnchorSlip {
