@@ -138,6 +138,11 @@ SDFCCD_PENALTY_INLINE Vec3 scaled(double s, const Vec3& v) {
   return Vec3(s * v.x(), s * v.y(), s * v.z());
 }
 
+/// v / length, component by component (length > 0: v's norm).
+SDFCCD_PENALTY_INLINE Vec3 unit(const Vec3& v, double length) {
+  return Vec3(v.x() / length, v.y() / length, v.z() / length);
+}
+
 /// Are all components finite? (Eigen's allFinite() was a call.)
 SDFCCD_PENALTY_INLINE bool allFinite(const Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
@@ -356,24 +361,37 @@ SDFCCD_PENALTY_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPoi
         away = Vec3(-towards.x(), -towards.y(), -towards.z());
         const double awayLength = away.norm();
         hasAway = allFinite(away) && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
-        if (hasAway) away = Vec3(away.x() / awayLength, away.y() / awayLength, away.z() / awayLength);
+        if (hasAway) away = unit(away, awayLength);
       }
       if (hasAway) {
-        const double shellLength = shellNormal.norm();
+        // (1 - w) away + w shellNormal / |shellNormal| where |shellNormal| > 0 (norm() is the square root of
+        // squaredNorm(), positive exactly when it is), else away.
+        const double shellSquared = shellNormal.squaredNorm();
         Vec3 blended = away;
-        if (shellLength > 0.0) {
-          const double keep = 1.0 - w;
-          blended = Vec3(keep * away.x() + w * (shellNormal.x() / shellLength),
-                         keep * away.y() + w * (shellNormal.y() / shellLength),
-                         keep * away.z() + w * (shellNormal.z() / shellLength));
+        if (shellSquared > 0.0) {
+          if (w == 0.0 && allFinite(shellNormal)) {
+            // Shallow (most samples): 1 away_i is away_i, and 0 (s_i / |s|) is the zero of s_i's sign, 0 s_i (s_i
+            // finite, |s| > 0: the quotient is finite), so the same bits without the norm and the divisions.
+            blended = Vec3(away.x() + 0.0 * shellNormal.x(), away.y() + 0.0 * shellNormal.y(),
+                           away.z() + 0.0 * shellNormal.z());
+          } else {
+            const double shellLength = std::sqrt(shellSquared);
+            const double keep = 1.0 - w;
+            blended = Vec3(keep * away.x() + w * (shellNormal.x() / shellLength),
+                           keep * away.y() + w * (shellNormal.y() / shellLength),
+                           keep * away.z() + w * (shellNormal.z() / shellLength));
+          }
         }
-        if (blended.norm() > 1e-6) normal = blended;  // opposed directions: the shell normal
+        // The blend's length is the normalization's (the same norm of the same vector, taken once).
+        const double blendedLength = blended.norm();
+        if (blendedLength > 1e-6) return unit(blended, blendedLength);
+        // else opposed directions: the shell normal
       }
     }
   }
   const double normalLength = normal.norm();
   if (!(normalLength > 0.0)) return Vec3::Zero();  // the normal turned half a turn during the step
-  return Vec3(normal.x() / normalLength, normal.y() / normalLength, normal.z() / normalLength);
+  return unit(normal, normalLength);
 }
 
 /// The pair's damping as Rayleigh (stiffness-proportional) damping of its elastic wrench W (per-area law,
