@@ -148,19 +148,11 @@ SDFCCD_PENALTY_INLINE bool allFinite(const Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
-/// Precomputed, per contact: the point's trajectory and what interpolates linearly in t.
-struct PenaltyPointPath {
-  Vec3 pointInSdfStart, pointInSdfEnd;  // field frame
-  LinearVec3 pointInSdf;                // from pointInSdfStart to pointInSdfEnd
-  LinearVec3 normalInWorld;             // shell's outward normal
-  LinearVec3 handleShell;               // world, from the shell body's COM to the point
-  LinearVec3 handleField;               // world, from the field body's COM to the point
-  Vec3 anchorInField = Vec3::Zero();    // the point's anchor (anchor friction), as matched this step
-  double stiffness = 0.0;               // k_i, N/m
-  double damping = 0.0;                 // c_i, N s/m
-  FrictionSettings law;                 // anchor friction's tangential law for this point
-  std::size_t anchor = 0;               // index in the anchor table (anchor friction)
-};
+/// Is every component +0.0 (the bits of zero, not a -0)?
+bool positiveZero(const Vec3& v) {
+  const Vec3 zero = Vec3::Zero();
+  return std::memcmp(v.data(), zero.data(), 3 * sizeof(double)) == 0;
+}
 
 /// Is x -0.0?
 bool negativeZero(double x) {
@@ -229,6 +221,7 @@ struct SampleRole {
   double frictionSlipSpeed = 0.0;
   double dampingPerStiffness = 0.0;
   LinearVec3 shellLinear, shellAngular, fieldLinear, fieldAngular;  // world
+  bool fieldAtRest = false;  // the field body's velocities are +0 throughout (bit for bit): a static body
 
   SampleRole(const PenaltyPathFrames& pathFrames, const ShellMotion& shell, const FieldMotion& fieldBody,
              const PenaltySettings& settings, const PenaltyRoleInput& input, bool damping, bool friction_)
@@ -253,7 +246,41 @@ struct SampleRole {
     const double d1 = settings.blendEndCells * input.cellSize;
     blendStart = d0;
     blendWidth = d1 - d0;
+    const BodyVelocities& v = fieldBody.velocity;
+    fieldAtRest = positiveZero(v.linearStart) && positiveZero(v.linearEnd) && positiveZero(v.angularStart) &&
+                  positiveZero(v.angularEnd);
   }
+};
+
+/// Precomputed, per contact: the point's trajectory and what interpolates linearly in t. Built in place (the
+/// trajectory's members are not first zeroed: a fifth of the per-contact set-up).
+struct PenaltyPointPath {
+  Vec3 pointInSdfStart, pointInSdfEnd;  // field frame
+  LinearVec3 pointInSdf;                // from pointInSdfStart to pointInSdfEnd
+  LinearVec3 normalInWorld;             // shell's outward normal
+  LinearVec3 handleShell;               // world, from the shell body's COM to the point
+  LinearVec3 handleField;               // world, from the field body's COM to the point
+  Vec3 anchorInField = Vec3::Zero();    // the point's anchor (anchor friction), as matched this step
+  double stiffness = 0.0;               // k_i, N/m
+  double damping = 0.0;                 // c_i, N s/m
+  FrictionSettings law;                 // anchor friction's tangential law for this point
+  std::size_t anchor = 0;               // index in the anchor table (anchor friction)
+
+  PenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
+                   const PenaltyPathFrames& frames)
+      : PenaltyPointPath(shell.worldFromShellStart * pointInShell, shell.worldFromShellEnd * pointInShell,
+                         normalInShell, shell, frames) {}
+
+ private:
+  PenaltyPointPath(const Vec3& pointInWorldStart, const Vec3& pointInWorldEnd, const Vec3& normalInShell,
+                   const ShellMotion& shell, const PenaltyPathFrames& frames)
+      : pointInSdfStart(frames.sdfFromWorldStart * pointInWorldStart),
+        pointInSdfEnd(frames.sdfFromWorldEnd * pointInWorldEnd),
+        pointInSdf(pointInSdfStart, pointInSdfEnd),
+        normalInWorld(shell.worldFromShellStart.linear() * normalInShell,
+                      shell.worldFromShellEnd.linear() * normalInShell),
+        handleShell(pointInWorldStart - frames.shellComStart, pointInWorldEnd - frames.shellComEnd),
+        handleField(pointInWorldStart - frames.fieldComStart, pointInWorldEnd - frames.fieldComEnd) {}
 };
 
 /// A plane's gradient is its normal everywhere: for a still field, penaltyDirection's away vector
@@ -277,21 +304,6 @@ void setConstantAway(const Field& field, const FieldMotion& fieldBody, PenaltyPa
     (void)fieldBody;
     (void)frames;
   }
-}
-
-PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
-                                      const PenaltyPathFrames& frames) {
-  PenaltyPointPath path;
-  const Vec3 pointInWorldStart = shell.worldFromShellStart * pointInShell;
-  const Vec3 pointInWorldEnd = shell.worldFromShellEnd * pointInShell;
-  path.pointInSdfStart = frames.sdfFromWorldStart * pointInWorldStart;
-  path.pointInSdfEnd = frames.sdfFromWorldEnd * pointInWorldEnd;
-  path.pointInSdf = LinearVec3(path.pointInSdfStart, path.pointInSdfEnd);
-  path.normalInWorld =
-      LinearVec3(shell.worldFromShellStart.linear() * normalInShell, shell.worldFromShellEnd.linear() * normalInShell);
-  path.handleShell = LinearVec3(pointInWorldStart - frames.shellComStart, pointInWorldEnd - frames.shellComEnd);
-  path.handleField = LinearVec3(pointInWorldStart - frames.fieldComStart, pointInWorldEnd - frames.fieldComEnd);
-  return path;
 }
 
 /// phi at `pointInSdf`; for a grid field inside its box also the gradient there (`outHasGradient`), from the same
@@ -465,14 +477,21 @@ SDFCCD_PENALTY_INLINE double addPenaltySample(const Field& field, const PenaltyP
     const Vec3 shellLinear = role.shellLinear.at(t);
     const Vec3 velocityShell(shellLinear.x() + handleRateShell.x(), shellLinear.y() + handleRateShell.y(),
                              shellLinear.z() + handleRateShell.z());
-    const Vec3 fieldLinear = role.fieldLinear.at(t);
-    const Vec3 fieldTurn = role.fieldAngular.at(t).cross(handleField);
-    const Vec3 velocityField(fieldLinear.x() + fieldTurn.x(), fieldLinear.y() + fieldTurn.y(),
-                             fieldLinear.z() + fieldTurn.z());
-    handleRateField = Vec3(velocityShell.x() - fieldLinear.x(), velocityShell.y() - fieldLinear.y(),
-                           velocityShell.z() - fieldLinear.z());
-    relativeVelocity = Vec3(velocityShell.x() - velocityField.x(), velocityShell.y() - velocityField.y(),
-                            velocityShell.z() - velocityField.z());
+    if (role.fieldAtRest && std::isfinite(t) && allFinite(handleField)) {
+      // A field body at rest (the ground): its velocity at t is +0 + t (+0) = +0 and its turn +0 x h a zero for
+      // finite t and h, so its material point's velocity is +0 + (a zero) = +0, and v - (+0) is v, bit for bit.
+      handleRateField = velocityShell;
+      relativeVelocity = velocityShell;
+    } else {
+      const Vec3 fieldLinear = role.fieldLinear.at(t);
+      const Vec3 fieldTurn = role.fieldAngular.at(t).cross(handleField);
+      const Vec3 velocityField(fieldLinear.x() + fieldTurn.x(), fieldLinear.y() + fieldTurn.y(),
+                               fieldLinear.z() + fieldTurn.z());
+      handleRateField = Vec3(velocityShell.x() - fieldLinear.x(), velocityShell.y() - fieldLinear.y(),
+                             velocityShell.z() - fieldLinear.z());
+      relativeVelocity = Vec3(velocityShell.x() - velocityField.x(), velocityShell.y() - velocityField.y(),
+                              velocityShell.z() - velocityField.z());
+    }
   }
   double pushMagnitude = magnitude;  // the normal force of the impulse (N)
   if (role.useDamping) {
@@ -566,19 +585,22 @@ PairResponseCoefficients perAreaCoefficientsImpl(const std::vector<Vec3>& points
   Vec3 normalSum = Vec3::Zero();
   const Mat3 worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
   const Rigid sdfFromWorldEnd = fieldBody.worldFromSdfEnd.inverse();
-  for (const PointContact& c : ccd.contacts) {
-    const std::size_t i = static_cast<std::size_t>(c.point);
+  // Sized once, filled by index: a push_back per contact was a call.
+  if (endLookups != nullptr) endLookups->resize(ccd.contacts.size());
+  for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
+    const std::size_t i = static_cast<std::size_t>(ccd.contacts[n].point);
     const double k = roleStiffnessPerArea * (*io.areas)[i];
     const Vec3 pointInWorld = shell.worldFromShellEnd * pointsInShell[i];
     roleStiffness += k;
     centroid += k * pointInWorld;
-    // The point is the path's pointInSdfEnd (makePenaltyPointPath: the same expression), so a lookup kept here
+    // The point is the path's pointInSdfEnd (PenaltyPointPath: the same expression), so a lookup kept here
     // serves the anchor's end-of-step update too.
     const Vec3 pointInSdf = sdfFromWorldEnd * pointInWorld;
     Vec3 gradientInSdf;
     if (endLookups != nullptr) {
-      endLookups->push_back(lookUpEnd(field, pointInSdf));
-      gradientInSdf = endLookups->back().gradient;
+      EndLookup& lookup = (*endLookups)[n];
+      lookup = lookUpEnd(field, pointInSdf);
+      gradientInSdf = lookup.gradient;
     } else {
       gradientInSdf = field.gradient(pointInSdf);
     }
@@ -631,7 +653,7 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
   for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
     const PointContact& contact = ccd.contacts[n];
     const std::size_t index = static_cast<std::size_t>(contact.point);
-    PenaltyPointPath path = makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, frames);
+    PenaltyPointPath path(pointsInShell[index], contact.pointNormalInShell, shell, frames);
     path.stiffness = perArea ? input.stiffnessPerArea * (*input.areas)[index] : settings.stiffness;
     path.damping = dampingPerStiffness ? input.dampingPerStiffness * path.stiffness : settings.damping;
     path.law.friction = settings.friction;
