@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -17,8 +18,11 @@
 
 namespace sdfccd {
 
-void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,
-                       const PenaltySettings& settings) {
+namespace {
+
+/// checkPenaltyInput's messages: the checks one by one, throwing at the first that fails. Out of line and cold:
+/// the hot path (every role of every step) tests the same conditions at once.
+[[gnu::cold, gnu::noinline]] void throwBadPenaltyInput(double timestep, const PenaltySettings& settings) {
   if (!(timestep > 0.0) || !std::isfinite(timestep)) {
     throw Error("penalty model: the timestep must be positive and finite (got " + std::to_string(timestep) + ")");
   }
@@ -44,10 +48,36 @@ void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double
       !std::isfinite(settings.frictionSlipSpeed)) {
     throw Error("penalty model: friction must be finite and >= 0, frictionSlipSpeed positive");
   }
+}
+
+[[gnu::cold, gnu::noinline]] void throwBadContactPoint(int point) {
+  throw Error("penalty model: contact point index " + std::to_string(point) + " is out of range");
+}
+
+/// lo <= x <= hi (false for NaN).
+bool within(double x, double lo, double hi) {
+  return x >= lo && x <= hi;
+}
+
+}  // namespace
+
+void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,
+                       const PenaltySettings& settings) {
+  // throwBadPenaltyInput's conditions at once: a positive or non-negative finite value is one in (0, max] or
+  // [0, max] (NaN fails every comparison); dampingRatio <= 2 and finite is [-max, 2]; blendEndCells >
+  // blendStartCells >= 0 leaves only its upper bound to check.
+  constexpr double kMax = std::numeric_limits<double>::max();
+  const bool valid = timestep > 0.0 && timestep <= kMax && within(settings.stiffness, 0.0, kMax) &&
+                     within(settings.damping, 0.0, kMax) && within(settings.stiffnessPerArea, 0.0, kMax) &&
+                     within(settings.dampingRatio, -kMax, 2.0) && settings.roleScale > 0.0 &&
+                     settings.roleScale <= 1.0 && settings.blendStartCells >= 0.0 &&
+                     settings.blendEndCells > settings.blendStartCells && settings.blendEndCells <= kMax &&
+                     settings.subintervals >= 1 && within(settings.friction, 0.0, kMax) &&
+                     settings.frictionSlipSpeed > 0.0 && settings.frictionSlipSpeed <= kMax;
+  if (!valid) throwBadPenaltyInput(timestep, settings);  // names the failing check (always one)
   for (const PointContact& contact : ccd.contacts) {
-    if (contact.point < 0 || static_cast<std::size_t>(contact.point) >= pointCount) {
-      throw Error("penalty model: contact point index " + std::to_string(contact.point) + " is out of range");
-    }
+    // A negative index converts to one above any point count.
+    if (static_cast<std::size_t>(contact.point) >= pointCount) throwBadContactPoint(contact.point);
   }
 }
 
