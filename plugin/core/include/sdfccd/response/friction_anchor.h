@@ -98,8 +98,24 @@ struct AnchorSlip {
 /// (a += (1 - mu F_n / (k_t |s|)) s: its tangential position becomes p - (mu F_n / k_t) s/|s|, the design's
 /// rule, and its offset along the normal is kept); else it stays, bit for bit. Field frame: pointInField (m),
 /// anchorInField (m), unit normalInField; normalForce F_n (N) at the end pose.
-AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
-                      double normalForce, const FrictionSettings& settings);
+inline AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
+                             double normalForce, const FrictionSettings& settings) {
+  AnchorSlip out;
+  out.anchorInField = anchorInField;
+  const Vec3 stretch = detail::tangentialPart(pointInField - anchorInField, normalInField);
+  const double length = stretch.norm();
+  const double elastic = settings.tangentialStiffness * length;
+  const double cap = settings.friction * std::max(normalForce, 0.0);
+  if (!(elastic > cap) && settings.tangentialStiffness > 0.0) return out;
+  if (!(length > 0.0)) return out;  // no stretch: nothing to drag (also k_t = 0 with the point on its anchor)
+  // k_t = 0: the stretch carries no force, so the anchor follows the point (it holds nothing).
+  const double keep = settings.tangentialStiffness > 0.0 ? cap / elastic : 0.0;
+  const double drag = 1.0 - keep;
+  out.anchorInField = Vec3(anchorInField.x() + drag * stretch.x(), anchorInField.y() + drag * stretch.y(),
+                           anchorInField.z() + drag * stretch.z());
+  out.state = FrictionState::Slip;
+  return out;
+}
 
 /// The anchor of one shell point.
 struct FrictionAnchor {
@@ -138,9 +154,16 @@ class FrictionAnchorTable {
   /// Ends the match: anchors of points not matched are dropped. Returns the counts.
   AnchorMatchResult endMatch();
 
-  /// End-of-step update of anchors()[index] (see slipAnchor()); returns Slip if it moved.
+  /// End-of-step update of anchors()[index] (see slipAnchor()); returns Slip if it moved. Throws sdfccd::Error on
+  /// an index out of range. Inline: the penalty model calls it for every contact.
   FrictionState updateAnchor(std::size_t index, const Vec3& pointInField, const Vec3& normalInField, double normalForce,
-                             const FrictionSettings& settings);
+                             const FrictionSettings& settings) {
+    if (index >= m_anchors.size()) throwIndexOutOfRange();
+    FrictionAnchor& anchor = m_anchors[index];
+    const AnchorSlip slip = slipAnchor(pointInField, anchor.anchorInField, normalInField, normalForce, settings);
+    anchor.anchorInField = slip.anchorInField;
+    return slip.state;
+  }
 
   /// The anchors, sorted by point index; after a match, aligned with the step's contacts.
   const std::vector<FrictionAnchor>& anchors() const { return m_anchors; }
@@ -152,6 +175,8 @@ class FrictionAnchorTable {
   void clear();
 
  private:
+  [[noreturn]] static void throwIndexOutOfRange();
+
   std::vector<FrictionAnchor> m_anchors;   // current, sorted by point
   std::vector<FrictionAnchor> m_previous;  // during a match: last step's anchors
   std::size_t m_cursor = 0;                // during a match: next unvisited entry of m_previous
