@@ -201,7 +201,8 @@ bool penaltyInputAcceptable(double timestep, const PenaltySettings& s) {
          s.frictionSlipSpeed > 0.0 && std::isfinite(s.frictionSlipSpeed);
 }
 
-bool checkPasses(double timestep, const PenaltySettings& s, const RigidCcdResult& ccd, std::size_t pointCount) {
+bool penaltyInputCheckPasses(double timestep, const PenaltySettings& s, const RigidCcdResult& ccd,
+                             std::size_t pointCount) {
   try {
     checkPenaltyInput(pointCount, ccd, timestep, s);
     return true;
@@ -238,13 +239,14 @@ TEST(PenaltyModel, InputChecksAcceptExactlyTheRuleAtEveryBoundary) {
       &PenaltySettings::blendEndCells, &PenaltySettings::friction,  &PenaltySettings::frictionSlipSpeed};
   int rejected = 0;
   for (const double value : values) {
-    EXPECT_EQ(checkPasses(value, PenaltySettings{}, ok, 1), penaltyInputAcceptable(value, PenaltySettings{}))
+    EXPECT_EQ(penaltyInputCheckPasses(value, PenaltySettings{}, ok, 1),
+              penaltyInputAcceptable(value, PenaltySettings{}))
         << "timestep " << value;
     for (std::size_t f = 0; f < fields.size(); ++f) {
       PenaltySettings s;
       s.*fields[f] = value;
       const bool expected = penaltyInputAcceptable(0.01, s);
-      EXPECT_EQ(checkPasses(0.01, s, ok, 1), expected) << "field " << f << " = " << value;
+      EXPECT_EQ(penaltyInputCheckPasses(0.01, s, ok, 1), expected) << "field " << f << " = " << value;
       rejected += expected ? 0 : 1;
     }
   }
@@ -252,12 +254,12 @@ TEST(PenaltyModel, InputChecksAcceptExactlyTheRuleAtEveryBoundary) {
   for (const int pieces : {-1, 0, 1}) {
     PenaltySettings s;
     s.subintervals = pieces;
-    EXPECT_EQ(checkPasses(0.01, s, ok, 1), pieces >= 1);
+    EXPECT_EQ(penaltyInputCheckPasses(0.01, s, ok, 1), pieces >= 1);
   }
   // Contact point indices: in range, past the end, negative.
-  EXPECT_TRUE(checkPasses(0.01, PenaltySettings{}, oneContact(2, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
-  EXPECT_FALSE(checkPasses(0.01, PenaltySettings{}, oneContact(3, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
-  EXPECT_FALSE(checkPasses(0.01, PenaltySettings{}, oneContact(-1, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
+  EXPECT_TRUE(penaltyInputCheckPasses(0.01, PenaltySettings{}, oneContact(2, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
+  EXPECT_FALSE(penaltyInputCheckPasses(0.01, PenaltySettings{}, oneContact(3, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
+  EXPECT_FALSE(penaltyInputCheckPasses(0.01, PenaltySettings{}, oneContact(-1, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
 }
 
 // The per-area law's damping is Rayleigh damping of the pair's elastic wrench (penalty_model.cpp, PairDamping):
