@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "sdfccd/error.h"
@@ -188,6 +189,77 @@ TEST(PenaltyModel, RejectsBadInput) {
   PenaltySettings s;
   s.subintervals = 0;
   EXPECT_THROW(integratePenalty(points, testPlane(), ok, fixed, fixedField, 0.01, s), Error);
+}
+
+// checkPenaltyInput's rule, written as its documented checks one by one: true when the input is acceptable.
+bool penaltyInputAcceptable(double timestep, const PenaltySettings& s) {
+  const auto nonNegativeFinite = [](double x) { return x >= 0.0 && std::isfinite(x); };
+  return timestep > 0.0 && std::isfinite(timestep) && nonNegativeFinite(s.stiffness) && nonNegativeFinite(s.damping) &&
+         nonNegativeFinite(s.stiffnessPerArea) && s.dampingRatio <= 2.0 && std::isfinite(s.dampingRatio) &&
+         s.roleScale > 0.0 && s.roleScale <= 1.0 && s.blendStartCells >= 0.0 && s.blendEndCells > s.blendStartCells &&
+         std::isfinite(s.blendEndCells) && s.subintervals >= 1 && nonNegativeFinite(s.friction) &&
+         s.frictionSlipSpeed > 0.0 && std::isfinite(s.frictionSlipSpeed);
+}
+
+bool penaltyInputCheckPasses(double timestep, const PenaltySettings& s, const RigidCcdResult& ccd,
+                             std::size_t pointCount) {
+  try {
+    checkPenaltyInput(pointCount, ccd, timestep, s);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+// Every checked value, set one at a time to each boundary and non-finite value, is accepted exactly when the rule
+// accepts it (checkPenaltyInput tests the conditions at once on its fast path, then names the first that fails).
+TEST(PenaltyModel, InputChecksAcceptExactlyTheRuleAtEveryBoundary) {
+  const double kMax = std::numeric_limits<double>::max();
+  const double kInf = std::numeric_limits<double>::infinity();
+  const std::vector<double> values = {std::nan(""),
+                                      -kInf,
+                                      -kMax,
+                                      -2.5,
+                                      -1e-300,
+                                      -0.0,
+                                      0.0,
+                                      std::numeric_limits<double>::denorm_min(),
+                                      0.5,
+                                      1.0,
+                                      std::nextafter(1.0, 2.0),
+                                      2.0,
+                                      std::nextafter(2.0, 3.0),
+                                      1e300,
+                                      kMax,
+                                      kInf};
+  const RigidCcdResult ok = oneContact(0, Vec3(0, -1, 0), {{0.0, 1.0}});
+  const std::vector<double PenaltySettings::*> fields = {
+      &PenaltySettings::stiffness,     &PenaltySettings::damping,   &PenaltySettings::stiffnessPerArea,
+      &PenaltySettings::dampingRatio,  &PenaltySettings::roleScale, &PenaltySettings::blendStartCells,
+      &PenaltySettings::blendEndCells, &PenaltySettings::friction,  &PenaltySettings::frictionSlipSpeed};
+  int rejected = 0;
+  for (const double value : values) {
+    EXPECT_EQ(penaltyInputCheckPasses(value, PenaltySettings{}, ok, 1),
+              penaltyInputAcceptable(value, PenaltySettings{}))
+        << "timestep " << value;
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+      PenaltySettings s;
+      s.*fields[f] = value;
+      const bool expected = penaltyInputAcceptable(0.01, s);
+      EXPECT_EQ(penaltyInputCheckPasses(0.01, s, ok, 1), expected) << "field " << f << " = " << value;
+      rejected += expected ? 0 : 1;
+    }
+  }
+  EXPECT_GT(rejected, 50);  // the values do probe both sides of every bound
+  for (const int pieces : {-1, 0, 1}) {
+    PenaltySettings s;
+    s.subintervals = pieces;
+    EXPECT_EQ(penaltyInputCheckPasses(0.01, s, ok, 1), pieces >= 1);
+  }
+  // Contact point indices: in range, past the end, negative.
+  EXPECT_TRUE(penaltyInputCheckPasses(0.01, PenaltySettings{}, oneContact(2, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
+  EXPECT_FALSE(penaltyInputCheckPasses(0.01, PenaltySettings{}, oneContact(3, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
+  EXPECT_FALSE(penaltyInputCheckPasses(0.01, PenaltySettings{}, oneContact(-1, Vec3(0, -1, 0), {{0.0, 1.0}}), 3));
 }
 
 // The per-area law's damping is Rayleigh damping of the pair's elastic wrench (penalty_model.cpp, PairDamping):

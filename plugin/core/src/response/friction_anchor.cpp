@@ -18,49 +18,12 @@ void checkNonNegative(double value, const char* name) {
   }
 }
 
-Vec3 tangentialPart(const Vec3& v, const Vec3& normal) {
-  return v - normal * normal.dot(v);
-}
-
 }  // namespace
 
 void FrictionSettings::validate() const {
   checkNonNegative(friction, "friction (mu)");
   checkNonNegative(tangentialStiffness, "tangentialStiffness");
   checkNonNegative(tangentialDamping, "tangentialDamping");
-}
-
-TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
-                                const Vec3& relativeVelocityInWorld, double normalForce,
-                                const FrictionSettings& settings) {
-  TangentialForce out;
-  out.stretch = tangentialPart(pointInWorld - anchorInWorld, normalInWorld);
-  out.force = -settings.tangentialStiffness * out.stretch -
-              settings.tangentialDamping * tangentialPart(relativeVelocityInWorld, normalInWorld);
-  const double cap = settings.friction * std::max(normalForce, 0.0);
-  const double magnitude = out.force.norm();
-  if (magnitude > cap) {
-    out.force *= cap / magnitude;
-    out.state = FrictionState::Slip;
-  }
-  return out;
-}
-
-AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
-                      double normalForce, const FrictionSettings& settings) {
-  AnchorSlip out;
-  out.anchorInField = anchorInField;
-  const Vec3 stretch = tangentialPart(pointInField - anchorInField, normalInField);
-  const double length = stretch.norm();
-  const double elastic = settings.tangentialStiffness * length;
-  const double cap = settings.friction * std::max(normalForce, 0.0);
-  if (!(elastic > cap) && settings.tangentialStiffness > 0.0) return out;
-  if (!(length > 0.0)) return out;  // no stretch: nothing to drag (also k_t = 0 with the point on its anchor)
-  // k_t = 0: the stretch carries no force, so the anchor follows the point (it holds nothing).
-  const double keep = settings.tangentialStiffness > 0.0 ? cap / elastic : 0.0;
-  out.anchorInField = anchorInField + (1.0 - keep) * stretch;
-  out.state = FrictionState::Slip;
-  return out;
 }
 
 AnchorMatchResult FrictionAnchorTable::match(const std::vector<AnchorContact>& contacts) {
@@ -107,13 +70,8 @@ AnchorMatchResult FrictionAnchorTable::endMatch() {
   return m_counts;
 }
 
-FrictionState FrictionAnchorTable::updateAnchor(std::size_t index, const Vec3& pointInField, const Vec3& normalInField,
-                                                double normalForce, const FrictionSettings& settings) {
-  if (index >= m_anchors.size()) throw Error("FrictionAnchorTable::updateAnchor: index out of range");
-  FrictionAnchor& anchor = m_anchors[index];
-  const AnchorSlip slip = slipAnchor(pointInField, anchor.anchorInField, normalInField, normalForce, settings);
-  anchor.anchorInField = slip.anchorInField;
-  return slip.state;
+void FrictionAnchorTable::throwIndexOutOfRange() {
+  throw Error("FrictionAnchorTable::updateAnchor: index out of range");
 }
 
 const FrictionAnchor* FrictionAnchorTable::find(int point) const {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -17,8 +18,11 @@
 
 namespace sdfccd {
 
-void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,
-                       const PenaltySettings& settings) {
+namespace {
+
+/// checkPenaltyInput's messages: the checks one by one, throwing at the first that fails. Out of line and cold:
+/// the hot path (every role of every step) tests the same conditions at once.
+[[gnu::cold, gnu::noinline]] void throwBadPenaltyInput(double timestep, const PenaltySettings& settings) {
   if (!(timestep > 0.0) || !std::isfinite(timestep)) {
     throw Error("penalty model: the timestep must be positive and finite (got " + std::to_string(timestep) + ")");
   }
@@ -44,10 +48,36 @@ void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double
       !std::isfinite(settings.frictionSlipSpeed)) {
     throw Error("penalty model: friction must be finite and >= 0, frictionSlipSpeed positive");
   }
+}
+
+[[gnu::cold, gnu::noinline]] void throwBadContactPoint(int point) {
+  throw Error("penalty model: contact point index " + std::to_string(point) + " is out of range");
+}
+
+/// lo <= x <= hi (false for NaN).
+bool within(double x, double lo, double hi) {
+  return x >= lo && x <= hi;
+}
+
+}  // namespace
+
+void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double timestep,
+                       const PenaltySettings& settings) {
+  // throwBadPenaltyInput's conditions at once: a positive or non-negative finite value is one in (0, max] or
+  // [0, max] (NaN fails every comparison); dampingRatio <= 2 and finite is [-max, 2]; blendEndCells >
+  // blendStartCells >= 0 leaves only its upper bound to check.
+  constexpr double kMax = std::numeric_limits<double>::max();
+  const bool valid = timestep > 0.0 && timestep <= kMax && within(settings.stiffness, 0.0, kMax) &&
+                     within(settings.damping, 0.0, kMax) && within(settings.stiffnessPerArea, 0.0, kMax) &&
+                     within(settings.dampingRatio, -kMax, 2.0) && settings.roleScale > 0.0 &&
+                     settings.roleScale <= 1.0 && settings.blendStartCells >= 0.0 &&
+                     settings.blendEndCells > settings.blendStartCells && settings.blendEndCells <= kMax &&
+                     settings.subintervals >= 1 && within(settings.friction, 0.0, kMax) &&
+                     settings.frictionSlipSpeed > 0.0 && settings.frictionSlipSpeed <= kMax;
+  if (!valid) throwBadPenaltyInput(timestep, settings);  // names the failing check (always one)
   for (const PointContact& contact : ccd.contacts) {
-    if (contact.point < 0 || static_cast<std::size_t>(contact.point) >= pointCount) {
-      throw Error("penalty model: contact point index " + std::to_string(contact.point) + " is out of range");
-    }
+    // A negative index converts to one above any point count.
+    if (static_cast<std::size_t>(contact.point) >= pointCount) throwBadContactPoint(contact.point);
   }
 }
 
@@ -59,32 +89,101 @@ namespace {
 /// compound of two 10 cm boxes diverged with a period of 2 steps); half is stable and still holds the anchor.
 constexpr double kTangentialDampingShare = 0.5;
 
-/// Precomputed, per contact: the point's trajectory and what interpolates linearly in t.
-struct PenaltyPointPath {
-  Vec3 pointInSdfStart, pointInSdfEnd;        // field frame
-  Vec3 normalInWorldStart, normalInWorldEnd;  // shell's outward normal
-  Vec3 handleShellStart, handleShellEnd;      // world, from the shell body's COM to the point
-  Vec3 handleFieldStart, handleFieldEnd;      // world, from the field body's COM to the point
-  Mat3 worldFromSdfStart, worldFromSdfEnd;    // rotation of the field's frame (gradient, anchors)
-  double stiffness = 0.0;                     // k_i, N/m
-  double damping = 0.0;                       // c_i, N s/m
-  std::size_t anchor = 0;                     // index in the anchor table (anchor friction)
-  bool fieldTurns = true;                     // worldFromSdfStart != worldFromSdfEnd
-  bool fieldStill = false;                    // PenaltyPathFrames::fieldStill
-  const Vec3* constantAway = nullptr;         // PenaltyPathFrames::awayUnit when constant, else null
-};
+// The sampling loop's helpers are forced inline: left to the compiler's size heuristics, the direction, the
+// friction law and the wrench sums stayed calls, each passing its vectors through memory.
+#if defined(__GNUC__)
+#define SDFCCD_PENALTY_INLINE inline __attribute__((always_inline))
+#else
+#define SDFCCD_PENALTY_INLINE inline
+#endif
 
 /// a + t (b - a), component by component: the very operations (so the very bits) of the Eigen expression, which
 /// the compiler left out of line, a call per lerp in the sampling loop (a sample takes up to eight).
-Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
+SDFCCD_PENALTY_INLINE Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
   return Vec3(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()));
 }
 
+/// A vector linear in t over the step, a + t (b - a) as lerp computes it, with b - a taken once where it is made
+/// (per contact or per role) instead of at every sample: the same subtraction of the same values, the same bits.
+struct LinearVec3 {
+  Vec3 start = Vec3::Zero();
+  Vec3 change = Vec3::Zero();  // end - start
+
+  LinearVec3() = default;
+  LinearVec3(const Vec3& a, const Vec3& b) : start(a), change(b.x() - a.x(), b.y() - a.y(), b.z() - a.z()) {}
+  SDFCCD_PENALTY_INLINE Vec3 at(double t) const {
+    return Vec3(start.x() + t * change.x(), start.y() + t * change.y(), start.z() + t * change.z());
+  }
+};
+
 /// The same for a matrix, entry by entry.
-Mat3 lerp(const Mat3& a, const Mat3& b, double t) {
-  Mat3 out;
-  for (int k = 0; k < 9; ++k) out.data()[k] = a.data()[k] + t * (b.data()[k] - a.data()[k]);
-  return out;
+struct LinearMat3 {
+  Mat3 start = Mat3::Identity();
+  Mat3 change = Mat3::Zero();
+
+  LinearMat3() = default;
+  LinearMat3(const Mat3& a, const Mat3& b) : start(a) {
+    for (int k = 0; k < 9; ++k) change.data()[k] = b.data()[k] - a.data()[k];
+  }
+  SDFCCD_PENALTY_INLINE Mat3 at(double t) const {
+    Mat3 out;
+    for (int k = 0; k < 9; ++k) out.data()[k] = start.data()[k] + t * change.data()[k];
+    return out;
+  }
+};
+
+/// m v as Eigen evaluates `Mat3 * Vec3` on this target (Eigen 3.4, SSE2): rows 0 and 1 as one packet, summed left
+/// to right, row 2 alone, reduced as m20 v0 + (m21 v1 + m22 v2). Written out because the compiler left Eigen's
+/// product out of line in the sampling loop: the same operations in the same order, so the same bits (checked
+/// against Eigen's product on 2e6 random matrices and vectors of mixed magnitudes; the other two associations differ
+/// in a third of them). A build that vectorizes Eigen otherwise (another instruction set, EIGEN_DONT_VECTORIZE) would
+/// round Eigen's products differently; these keep this order there too.
+SDFCCD_PENALTY_INLINE Vec3 rotate(const Mat3& m, const Vec3& v) {
+  return Vec3((m(0, 0) * v.x() + m(0, 1) * v.y()) + m(0, 2) * v.z(),
+              (m(1, 0) * v.x() + m(1, 1) * v.y()) + m(1, 2) * v.z(),
+              m(2, 0) * v.x() + (m(2, 1) * v.y() + m(2, 2) * v.z()));
+}
+
+/// m^T v as Eigen evaluates `Mat3.transpose() * Vec3` on this target: each row (a column of m) left to right.
+SDFCCD_PENALTY_INLINE Vec3 rotateBack(const Mat3& m, const Vec3& v) {
+  return Vec3((m(0, 0) * v.x() + m(1, 0) * v.y()) + m(2, 0) * v.z(),
+              (m(0, 1) * v.x() + m(1, 1) * v.y()) + m(2, 1) * v.z(),
+              (m(0, 2) * v.x() + m(1, 2) * v.y()) + m(2, 2) * v.z());
+}
+
+/// io += v, io -= v, io += s v and io -= s v, component by component (the operations of Eigen's compound assignments,
+/// one of which was a call in the sampling loop).
+SDFCCD_PENALTY_INLINE void addTo(Vec3& io, const Vec3& v) {
+  io = Vec3(io.x() + v.x(), io.y() + v.y(), io.z() + v.z());
+}
+SDFCCD_PENALTY_INLINE void subtractFrom(Vec3& io, const Vec3& v) {
+  io = Vec3(io.x() - v.x(), io.y() - v.y(), io.z() - v.z());
+}
+SDFCCD_PENALTY_INLINE void addScaled(Vec3& io, double s, const Vec3& v) {
+  io = Vec3(io.x() + s * v.x(), io.y() + s * v.y(), io.z() + s * v.z());
+}
+SDFCCD_PENALTY_INLINE void subtractScaled(Vec3& io, double s, const Vec3& v) {
+  io = Vec3(io.x() - s * v.x(), io.y() - s * v.y(), io.z() - s * v.z());
+}
+/// s v.
+SDFCCD_PENALTY_INLINE Vec3 scaled(double s, const Vec3& v) {
+  return Vec3(s * v.x(), s * v.y(), s * v.z());
+}
+
+/// v / length, component by component (length > 0: v's norm).
+SDFCCD_PENALTY_INLINE Vec3 unit(const Vec3& v, double length) {
+  return Vec3(v.x() / length, v.y() / length, v.z() / length);
+}
+
+/// Are all components finite? (Eigen's allFinite() was a call.)
+SDFCCD_PENALTY_INLINE bool allFinite(const Vec3& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
+
+/// Is every component +0.0 (the bits of zero, not a -0)?
+bool positiveZero(const Vec3& v) {
+  const Vec3 zero = Vec3::Zero();
+  return std::memcmp(v.data(), zero.data(), 3 * sizeof(double)) == 0;
 }
 
 /// Is x -0.0?
@@ -116,6 +215,9 @@ struct PenaltyPathFrames {
   /// at every sample: a plane that does not turn. penaltyDirection then skips its product and normalization.
   bool constantAway = false;
   Vec3 awayUnit = Vec3::Zero();
+  Mat3 worldFromSdfStart, worldFromSdfEnd;  // rotation of the field's frame (gradient, anchors)
+  LinearMat3 worldFromSdf;                  // from worldFromSdfStart to worldFromSdfEnd
+  bool fieldTurns = true;                   // worldFromSdfStart != worldFromSdfEnd
 
   PenaltyPathFrames(const ShellMotion& shell, const FieldMotion& fieldBody)
       : sdfFromWorldStart(fieldBody.worldFromSdfStart.inverse()),
@@ -123,11 +225,94 @@ struct PenaltyPathFrames {
         shellComStart(shell.worldFromShellStart * shell.centerOfMassInShell),
         shellComEnd(shell.worldFromShellEnd * shell.centerOfMassInShell),
         fieldComStart(fieldBody.worldFromSdfStart * fieldBody.centerOfMassInSdf),
-        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf) {
-    const Mat3 start = fieldBody.worldFromSdfStart.linear();
-    const Mat3 end = fieldBody.worldFromSdfEnd.linear();
-    fieldStill = lerpStaysAt(start, end);
+        fieldComEnd(fieldBody.worldFromSdfEnd * fieldBody.centerOfMassInSdf),
+        worldFromSdfStart(fieldBody.worldFromSdfStart.linear()),
+        worldFromSdfEnd(fieldBody.worldFromSdfEnd.linear()),
+        worldFromSdf(worldFromSdfStart, worldFromSdfEnd),
+        fieldTurns(worldFromSdfStart != worldFromSdfEnd) {
+    fieldStill = lerpStaysAt(worldFromSdfStart, worldFromSdfEnd);
   }
+};
+
+/// What every sample of one role shares besides the frames, taken once per role: the settings' switches, the blend
+/// band (the same products as per sample), and the bodies' velocities as linear functions of t.
+struct SampleRole {
+  const PenaltyPathFrames& frames;
+  double sigma = 0.0;
+  bool useDamping = false;
+  bool useFriction = false;
+  bool anchorFriction = false;  // FrictionModel::Anchor with a table
+  bool rotation = false;
+  bool needVelocity = false;
+  bool needHandles = false;
+  bool gradientDirection = false;  // the direction is not the shell normal alone
+  bool blendBand = false;          // PenaltyDirection::Blend with a cell size
+  double blendStart = 0.0;         // d0 = blendStartCells * cellSize
+  double blendWidth = 0.0;         // d1 - d0
+  double friction = 0.0;
+  double frictionSlipSpeed = 0.0;
+  double dampingPerStiffness = 0.0;
+  LinearVec3 shellLinear, shellAngular, fieldLinear, fieldAngular;  // world
+  bool fieldAtRest = false;  // the field body's velocities are +0 throughout (bit for bit): a static body
+
+  SampleRole(const PenaltyPathFrames& pathFrames, const ShellMotion& shell, const FieldMotion& fieldBody,
+             const PenaltySettings& settings, const PenaltyRoleInput& input, bool damping, bool friction_)
+      : frames(pathFrames),
+        sigma(settings.sigma),
+        useDamping(damping),
+        useFriction(friction_),
+        anchorFriction(settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr),
+        rotation(settings.enableRotation),
+        needVelocity(damping || friction_),
+        needHandles(needVelocity || settings.enableRotation),
+        gradientDirection(settings.direction != PenaltyDirection::ShellNormal),
+        blendBand(settings.direction == PenaltyDirection::Blend && input.cellSize > 0.0),
+        friction(settings.friction),
+        frictionSlipSpeed(settings.frictionSlipSpeed),
+        dampingPerStiffness(input.dampingPerStiffness),
+        shellLinear(shell.velocity.linearStart, shell.velocity.linearEnd),
+        shellAngular(shell.velocity.angularStart, shell.velocity.angularEnd),
+        fieldLinear(fieldBody.velocity.linearStart, fieldBody.velocity.linearEnd),
+        fieldAngular(fieldBody.velocity.angularStart, fieldBody.velocity.angularEnd) {
+    const double d0 = settings.blendStartCells * input.cellSize;
+    const double d1 = settings.blendEndCells * input.cellSize;
+    blendStart = d0;
+    blendWidth = d1 - d0;
+    const BodyVelocities& v = fieldBody.velocity;
+    fieldAtRest = positiveZero(v.linearStart) && positiveZero(v.linearEnd) && positiveZero(v.angularStart) &&
+                  positiveZero(v.angularEnd);
+  }
+};
+
+/// Precomputed, per contact: the point's trajectory and what interpolates linearly in t. Built in place (the
+/// trajectory's members are not first zeroed: a fifth of the per-contact set-up).
+struct PenaltyPointPath {
+  Vec3 pointInSdfStart, pointInSdfEnd;  // field frame
+  LinearVec3 pointInSdf;                // from pointInSdfStart to pointInSdfEnd
+  LinearVec3 normalInWorld;             // shell's outward normal
+  LinearVec3 handleShell;               // world, from the shell body's COM to the point
+  LinearVec3 handleField;               // world, from the field body's COM to the point
+  Vec3 anchorInField = Vec3::Zero();    // the point's anchor (anchor friction), as matched this step
+  double stiffness = 0.0;               // k_i, N/m
+  double damping = 0.0;                 // c_i, N s/m
+  FrictionSettings law;                 // anchor friction's tangential law for this point
+  std::size_t anchor = 0;               // index in the anchor table (anchor friction)
+
+  PenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
+                   const PenaltyPathFrames& frames)
+      : PenaltyPointPath(shell.worldFromShellStart * pointInShell, shell.worldFromShellEnd * pointInShell,
+                         normalInShell, shell, frames) {}
+
+ private:
+  PenaltyPointPath(const Vec3& pointInWorldStart, const Vec3& pointInWorldEnd, const Vec3& normalInShell,
+                   const ShellMotion& shell, const PenaltyPathFrames& frames)
+      : pointInSdfStart(frames.sdfFromWorldStart * pointInWorldStart),
+        pointInSdfEnd(frames.sdfFromWorldEnd * pointInWorldEnd),
+        pointInSdf(pointInSdfStart, pointInSdfEnd),
+        normalInWorld(shell.worldFromShellStart.linear() * normalInShell,
+                      shell.worldFromShellEnd.linear() * normalInShell),
+        handleShell(pointInWorldStart - frames.shellComStart, pointInWorldEnd - frames.shellComEnd),
+        handleField(pointInWorldStart - frames.fieldComStart, pointInWorldEnd - frames.fieldComEnd) {}
 };
 
 /// A plane's gradient is its normal everywhere: for a still field, penaltyDirection's away vector
@@ -153,32 +338,12 @@ void setConstantAway(const Field& field, const FieldMotion& fieldBody, PenaltyPa
   }
 }
 
-PenaltyPointPath makePenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
-                                      const FieldMotion& fieldBody, const PenaltyPathFrames& frames) {
-  PenaltyPointPath path;
-  const Vec3 pointInWorldStart = shell.worldFromShellStart * pointInShell;
-  const Vec3 pointInWorldEnd = shell.worldFromShellEnd * pointInShell;
-  path.pointInSdfStart = frames.sdfFromWorldStart * pointInWorldStart;
-  path.pointInSdfEnd = frames.sdfFromWorldEnd * pointInWorldEnd;
-  path.normalInWorldStart = shell.worldFromShellStart.linear() * normalInShell;
-  path.normalInWorldEnd = shell.worldFromShellEnd.linear() * normalInShell;
-  path.handleShellStart = pointInWorldStart - frames.shellComStart;
-  path.handleShellEnd = pointInWorldEnd - frames.shellComEnd;
-  path.handleFieldStart = pointInWorldStart - frames.fieldComStart;
-  path.handleFieldEnd = pointInWorldEnd - frames.fieldComEnd;
-  path.worldFromSdfStart = fieldBody.worldFromSdfStart.linear();
-  path.worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
-  path.fieldTurns = path.worldFromSdfStart != path.worldFromSdfEnd;
-  path.fieldStill = frames.fieldStill;
-  path.constantAway = frames.constantAway ? &frames.awayUnit : nullptr;
-  return path;
-}
-
 /// phi at `pointInSdf`; for a grid field inside its box also the gradient there (`outHasGradient`), from the same
 /// cell lookup: GridField::distance and ::gradient interpolate that cell each, so the values are bit-identical
 /// and a penalty sample pays one lookup instead of two.
 template <class Field>
-double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& outGradient, bool& outHasGradient) {
+SDFCCD_PENALTY_INLINE double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& outGradient,
+                                                  bool& outHasGradient) {
   outHasGradient = false;
   if constexpr (std::is_same_v<Field, GridField>) {
     if (field.grid().contains(pointInSdf)) {
@@ -215,44 +380,62 @@ bool sameBits(const Vec3& a, const Vec3& b) {
 /// The unit direction the field body is pushed at fraction t, depth d (< 0); zero when there is none.
 /// `gradientAtT`: the field's gradient at the point at t when already known (else looked up).
 template <class Field>
-Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, double t, double depth,
-                      const PenaltySettings& settings, double cellSize, const Vec3* gradientAtT = nullptr) {
-  const Vec3 shellNormal = lerp(path.normalInWorldStart, path.normalInWorldEnd, t);
+SDFCCD_PENALTY_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, const SampleRole& role,
+                                            double t, double depth, const Vec3* gradientAtT = nullptr) {
+  const PenaltyPathFrames& frames = role.frames;
+  const Vec3 shellNormal = path.normalInWorld.at(t);
   Vec3 normal = shellNormal;
-  if (settings.direction != PenaltyDirection::ShellNormal) {
+  if (role.gradientDirection) {
     double w = 0.0;  // weight of the shell normal
-    if (settings.direction == PenaltyDirection::Blend && cellSize > 0.0) {
-      const double d0 = settings.blendStartCells * cellSize;
-      const double d1 = settings.blendEndCells * cellSize;
-      const double x = std::clamp((-depth - d0) / (d1 - d0), 0.0, 1.0);
+    if (role.blendBand) {
+      const double x = std::clamp((-depth - role.blendStart) / role.blendWidth, 0.0, 1.0);
       w = x * x * (3.0 - 2.0 * x);
     }
     if (w < 1.0) {
       Vec3 away;
       bool hasAway = true;
-      if (path.constantAway != nullptr && t >= 0.0 && t <= 1.0) {
-        away = *path.constantAway;  // a still plane: what the lines below give, computed once (setConstantAway)
+      if (frames.constantAway && t >= 0.0 && t <= 1.0) {
+        away = frames.awayUnit;  // a still plane: what the lines below give, computed once (setConstantAway)
       } else {
-        const Vec3 gradientInSdf =
-            gradientAtT != nullptr ? *gradientAtT : field.gradient(lerp(path.pointInSdfStart, path.pointInSdfEnd, t));
+        const Vec3 gradientInSdf = gradientAtT != nullptr ? *gradientAtT : field.gradient(path.pointInSdf.at(t));
         // A field body that does not turn during the step (a static one, always) has one product, not two.
-        const Vec3 awayStart = path.worldFromSdfStart * gradientInSdf;
-        const Vec3 awayEnd = path.fieldTurns ? Vec3(path.worldFromSdfEnd * gradientInSdf) : awayStart;
-        away = -lerp(awayStart, awayEnd, t);
+        const Vec3 awayStart = rotate(frames.worldFromSdfStart, gradientInSdf);
+        const Vec3 awayEnd = frames.fieldTurns ? rotate(frames.worldFromSdfEnd, gradientInSdf) : awayStart;
+        const Vec3 towards = lerp(awayStart, awayEnd, t);
+        away = Vec3(-towards.x(), -towards.y(), -towards.z());
         const double awayLength = away.norm();
-        hasAway = away.allFinite() && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
-        if (hasAway) away /= awayLength;
+        hasAway = allFinite(away) && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
+        if (hasAway) away = unit(away, awayLength);
       }
       if (hasAway) {
-        const double shellLength = shellNormal.norm();
-        const Vec3 blended = shellLength > 0.0 ? Vec3((1.0 - w) * away + w * (shellNormal / shellLength)) : away;
-        if (blended.norm() > 1e-6) normal = blended;  // opposed directions: the shell normal
+        // (1 - w) away + w shellNormal / |shellNormal| where |shellNormal| > 0 (norm() is the square root of
+        // squaredNorm(), positive exactly when it is), else away.
+        const double shellSquared = shellNormal.squaredNorm();
+        Vec3 blended = away;
+        if (shellSquared > 0.0) {
+          if (w == 0.0 && allFinite(shellNormal)) {
+            // Shallow (most samples): 1 away_i is away_i, and 0 (s_i / |s|) is the zero of s_i's sign, 0 s_i (s_i
+            // finite, |s| > 0: the quotient is finite), so the same bits without the norm and the divisions.
+            blended = Vec3(away.x() + 0.0 * shellNormal.x(), away.y() + 0.0 * shellNormal.y(),
+                           away.z() + 0.0 * shellNormal.z());
+          } else {
+            const double shellLength = std::sqrt(shellSquared);
+            const double keep = 1.0 - w;
+            blended = Vec3(keep * away.x() + w * (shellNormal.x() / shellLength),
+                           keep * away.y() + w * (shellNormal.y() / shellLength),
+                           keep * away.z() + w * (shellNormal.z() / shellLength));
+          }
+        }
+        // The blend's length is the normalization's (the same norm of the same vector, taken once).
+        const double blendedLength = blended.norm();
+        if (blendedLength > 1e-6) return unit(blended, blendedLength);
+        // else opposed directions: the shell normal
       }
     }
   }
   const double normalLength = normal.norm();
   if (!(normalLength > 0.0)) return Vec3::Zero();  // the normal turned half a turn during the step
-  return normal / normalLength;
+  return unit(normal, normalLength);
 }
 
 /// The pair's damping as Rayleigh (stiffness-proportional) damping of its elastic wrench W (per-area law,
@@ -271,10 +454,10 @@ struct PairWrench {
   Vec3 torqueOnField = Vec3::Zero();  // N m s, about the field body's centre of mass
   Vec3 torqueOnShell = Vec3::Zero();  // N m s, about the shell body's centre of mass
 
-  void add(const Vec3& onField, const Vec3& handleField, const Vec3& handleShell) {
-    forceOnField += onField;
-    torqueOnField += handleField.cross(onField);
-    torqueOnShell -= handleShell.cross(onField);
+  SDFCCD_PENALTY_INLINE void add(const Vec3& onField, const Vec3& handleField, const Vec3& handleShell) {
+    addTo(forceOnField, onField);
+    addTo(torqueOnField, handleField.cross(onField));
+    subtractFrom(torqueOnShell, handleShell.cross(onField));
   }
 };
 
@@ -300,43 +483,50 @@ void finishPairDamping(const PairDamping& pair, PenaltyResult& io) {
 /// Adds the force at fraction t, weighted by `weight` seconds, to `io`. With `pairDamping`, the damping is the
 /// pair's Rayleigh damping (see PairDamping). Returns the depth d (model units).
 template <class Field>
-double addPenaltySample(const Field& field, const PenaltyPointPath& path, const ShellMotion& shell,
-                        const FieldMotion& fieldBody, double t, double weight, const PenaltySettings& settings,
-                        const PenaltyRoleInput& input, bool useDamping, bool useFriction, PenaltyResult& io,
-                        PairDamping* pairDamping = nullptr) {
-  const Vec3 pointInSdf = lerp(path.pointInSdfStart, path.pointInSdfEnd, t);
+SDFCCD_PENALTY_INLINE double addPenaltySample(const Field& field, const PenaltyPointPath& path, const SampleRole& role,
+                                              double t, double weight, PenaltyResult& io,
+                                              PairDamping* pairDamping = nullptr) {
+  const Vec3 pointInSdf = path.pointInSdf.at(t);
   Vec3 gradient;
   bool hasGradient = false;
-  const double depth = distanceWithGradient(field, pointInSdf, gradient, hasGradient) - settings.sigma;
+  const double depth = distanceWithGradient(field, pointInSdf, gradient, hasGradient) - role.sigma;
   if (!(depth < 0.0)) return depth;
-  const Vec3 normal =
-      penaltyDirection(field, path, t, depth, settings, input.cellSize, hasGradient ? &gradient : nullptr);
+  const Vec3 normal = penaltyDirection(field, path, role, t, depth, hasGradient ? &gradient : nullptr);
   if (normal.isZero(0.0)) return depth;
   ++io.samples;
   double magnitude = -path.stiffness * depth;  // N
-  const bool needVelocity = useDamping || useFriction;
-  const bool needHandles = needVelocity || settings.enableRotation;
   Vec3 handleShell = Vec3::Zero();
   Vec3 handleField = Vec3::Zero();
-  if (needHandles) {
-    handleShell = lerp(path.handleShellStart, path.handleShellEnd, t);
-    handleField = lerp(path.handleFieldStart, path.handleFieldEnd, t);
+  if (role.needHandles) {
+    handleShell = path.handleShell.at(t);
+    handleField = path.handleField.at(t);
   }
   Vec3 relativeVelocity = Vec3::Zero();  // of the shell's point relative to the field body's material point
   Vec3 handleRateShell = Vec3::Zero();   // d/dt of the handles with the point's own motion (lever damping)
   Vec3 handleRateField = Vec3::Zero();
-  if (needVelocity) {
-    const BodyVelocities& s = shell.velocity;
-    const BodyVelocities& f = fieldBody.velocity;
-    handleRateShell = lerp(s.angularStart, s.angularEnd, t).cross(handleShell);
-    const Vec3 velocityShell = lerp(s.linearStart, s.linearEnd, t) + handleRateShell;
-    const Vec3 velocityField =
-        lerp(f.linearStart, f.linearEnd, t) + lerp(f.angularStart, f.angularEnd, t).cross(handleField);
-    handleRateField = velocityShell - lerp(f.linearStart, f.linearEnd, t);
-    relativeVelocity = velocityShell - velocityField;
+  if (role.needVelocity) {
+    handleRateShell = role.shellAngular.at(t).cross(handleShell);
+    const Vec3 shellLinear = role.shellLinear.at(t);
+    const Vec3 velocityShell(shellLinear.x() + handleRateShell.x(), shellLinear.y() + handleRateShell.y(),
+                             shellLinear.z() + handleRateShell.z());
+    if (role.fieldAtRest && std::isfinite(t) && allFinite(handleField)) {
+      // A field body at rest (the ground): its velocity at t is +0 + t (+0) = +0 and its turn +0 x h a zero for
+      // finite t and h, so its material point's velocity is +0 + (a zero) = +0, and v - (+0) is v, bit for bit.
+      handleRateField = velocityShell;
+      relativeVelocity = velocityShell;
+    } else {
+      const Vec3 fieldLinear = role.fieldLinear.at(t);
+      const Vec3 fieldTurn = role.fieldAngular.at(t).cross(handleField);
+      const Vec3 velocityField(fieldLinear.x() + fieldTurn.x(), fieldLinear.y() + fieldTurn.y(),
+                               fieldLinear.z() + fieldTurn.z());
+      handleRateField = Vec3(velocityShell.x() - fieldLinear.x(), velocityShell.y() - fieldLinear.y(),
+                             velocityShell.z() - fieldLinear.z());
+      relativeVelocity = Vec3(velocityShell.x() - velocityField.x(), velocityShell.y() - velocityField.y(),
+                              velocityShell.z() - velocityField.z());
+    }
   }
   double pushMagnitude = magnitude;  // the normal force of the impulse (N)
-  if (useDamping) {
+  if (role.useDamping) {
     ++io.dampingEvaluations;
     const double approachSpeed = relativeVelocity.dot(normal);  // m/s, > 0 approaching
     const double elastic = magnitude;
@@ -346,50 +536,51 @@ double addPenaltySample(const Field& field, const PenaltyPointPath& path, const 
       // Rayleigh damping of the pair (addLeverDamping): the point's damper is not clamped here but with the
       // pair's total (finishPairDamping); `magnitude` (>= 0) still bounds the point's friction.
       pushMagnitude = elastic + path.damping * approachSpeed;
-      const Vec3 dampingImpulse = (weight * path.damping * approachSpeed) * normal;
-      pairDamping->elastic += (weight * elastic) * normal;
+      const Vec3 dampingImpulse = scaled(weight * path.damping * approachSpeed, normal);
+      addScaled(pairDamping->elastic, weight * elastic, normal);
       pairDamping->damping.add(dampingImpulse, handleField, handleShell);
-      if (settings.enableRotation) {
-        const Vec3 betaElastic = (input.dampingPerStiffness * weight * elastic) * normal;
-        pairDamping->damping.torqueOnField += handleRateField.cross(betaElastic);
-        pairDamping->damping.torqueOnShell -= handleRateShell.cross(betaElastic);
-        io.angularImpulseOnField += handleRateField.cross(betaElastic);
-        io.angularImpulseOnShell -= handleRateShell.cross(betaElastic);
+      if (role.rotation) {
+        const Vec3 betaElastic = scaled(role.dampingPerStiffness * weight * elastic, normal);
+        const Vec3 leverField = handleRateField.cross(betaElastic);
+        const Vec3 leverShell = handleRateShell.cross(betaElastic);
+        addTo(pairDamping->damping.torqueOnField, leverField);
+        subtractFrom(pairDamping->damping.torqueOnShell, leverShell);
+        addTo(io.angularImpulseOnField, leverField);
+        subtractFrom(io.angularImpulseOnShell, leverShell);
       }
     }
   }
-  Vec3 impulseOnField = (weight * pushMagnitude) * normal;
-  if (useFriction) {
+  Vec3 impulseOnField = scaled(weight * pushMagnitude, normal);
+  if (role.useFriction) {
     ++io.frictionEvaluations;
-    if (settings.frictionModel == FrictionModel::Anchor && input.anchors != nullptr) {
+    if (role.anchorFriction) {
       // The stretch from the anchor, fixed in the field's frame, taken to world with the field's rotation at t.
       // A still field's rotation interpolates to its start value (lerpStaysAt): no matrix to interpolate.
-      const Mat3 worldFromSdf = path.fieldStill && t >= 0.0 && t <= 1.0
-                                    ? path.worldFromSdfStart
-                                    : lerp(path.worldFromSdfStart, path.worldFromSdfEnd, t);
-      const Vec3 stretchInWorld = worldFromSdf * (pointInSdf - input.anchors->anchors()[path.anchor].anchorInField);
-      FrictionSettings law;
-      law.friction = settings.friction;
-      law.tangentialStiffness = path.stiffness;
-      law.tangentialDamping = kTangentialDampingShare * path.damping;
-      const TangentialForce f = tangentialForce(stretchInWorld, Vec3::Zero(), normal, relativeVelocity, magnitude, law);
-      impulseOnField -= weight * f.force;  // f acts on the shell's point
+      const PenaltyPathFrames& frames = role.frames;
+      const Vec3 fromAnchor(pointInSdf.x() - path.anchorInField.x(), pointInSdf.y() - path.anchorInField.y(),
+                            pointInSdf.z() - path.anchorInField.z());
+      const Vec3 stretchInWorld = frames.fieldStill && t >= 0.0 && t <= 1.0
+                                      ? rotate(frames.worldFromSdfStart, fromAnchor)
+                                      : rotate(frames.worldFromSdf.at(t), fromAnchor);
+      const TangentialForce f =
+          tangentialForce(stretchInWorld, Vec3::Zero(), normal, relativeVelocity, magnitude, path.law);
+      subtractScaled(impulseOnField, weight, f.force);  // f acts on the shell's point
     } else {
       // The field body drags the shell's point backwards: on the field, the force follows the slip.
-      const Vec3 slip = relativeVelocity - relativeVelocity.dot(normal) * normal;
+      const Vec3 slip = detail::tangentialPart(relativeVelocity, normal);
       const double slipSpeed = slip.norm();
       if (slipSpeed > 0.0) {
-        const double scale = settings.friction * magnitude / std::max(slipSpeed, settings.frictionSlipSpeed);
-        impulseOnField += (weight * scale) * slip;
+        const double scale = role.friction * magnitude / std::max(slipSpeed, role.frictionSlipSpeed);
+        addScaled(impulseOnField, weight * scale, slip);
       }
     }
   }
-  io.impulseOnField += impulseOnField;
-  io.impulseOnShell -= impulseOnField;
-  if (settings.enableRotation) {
+  addTo(io.impulseOnField, impulseOnField);
+  subtractFrom(io.impulseOnShell, impulseOnField);
+  if (role.rotation) {
     ++io.torqueEvaluations;
-    io.angularImpulseOnField += handleField.cross(impulseOnField);
-    io.angularImpulseOnShell -= handleShell.cross(impulseOnField);
+    addTo(io.angularImpulseOnField, handleField.cross(impulseOnField));
+    subtractFrom(io.angularImpulseOnShell, handleShell.cross(impulseOnField));
   }
   io.maxPenetration = std::max(io.maxPenetration, -depth);
   return depth;
@@ -426,19 +617,22 @@ PairResponseCoefficients perAreaCoefficientsImpl(const std::vector<Vec3>& points
   Vec3 normalSum = Vec3::Zero();
   const Mat3 worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
   const Rigid sdfFromWorldEnd = fieldBody.worldFromSdfEnd.inverse();
-  for (const PointContact& c : ccd.contacts) {
-    const std::size_t i = static_cast<std::size_t>(c.point);
+  // Sized once, filled by index: a push_back per contact was a call.
+  if (endLookups != nullptr) endLookups->resize(ccd.contacts.size());
+  for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
+    const std::size_t i = static_cast<std::size_t>(ccd.contacts[n].point);
     const double k = roleStiffnessPerArea * (*io.areas)[i];
     const Vec3 pointInWorld = shell.worldFromShellEnd * pointsInShell[i];
     roleStiffness += k;
     centroid += k * pointInWorld;
-    // The point is the path's pointInSdfEnd (makePenaltyPointPath: the same expression), so a lookup kept here
+    // The point is the path's pointInSdfEnd (PenaltyPointPath: the same expression), so a lookup kept here
     // serves the anchor's end-of-step update too.
     const Vec3 pointInSdf = sdfFromWorldEnd * pointInWorld;
     Vec3 gradientInSdf;
     if (endLookups != nullptr) {
-      endLookups->push_back(lookUpEnd(field, pointInSdf));
-      gradientInSdf = endLookups->back().gradient;
+      EndLookup& lookup = (*endLookups)[n];
+      lookup = lookUpEnd(field, pointInSdf);
+      gradientInSdf = lookup.gradient;
     } else {
       gradientInSdf = field.gradient(pointInSdf);
     }
@@ -487,13 +681,16 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
   if (anchored) input.anchors->beginMatch();
   PenaltyPathFrames frames(shell, fieldBody);
   setConstantAway(field, fieldBody, frames);
+  const SampleRole role(frames, shell, fieldBody, settings, input, useDamping, useFriction);
   for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
     const PointContact& contact = ccd.contacts[n];
     const std::size_t index = static_cast<std::size_t>(contact.point);
-    PenaltyPointPath path =
-        makePenaltyPointPath(pointsInShell[index], contact.pointNormalInShell, shell, fieldBody, frames);
+    PenaltyPointPath path(pointsInShell[index], contact.pointNormalInShell, shell, frames);
     path.stiffness = perArea ? input.stiffnessPerArea * (*input.areas)[index] : settings.stiffness;
     path.damping = dampingPerStiffness ? input.dampingPerStiffness * path.stiffness : settings.damping;
+    path.law.friction = settings.friction;
+    path.law.tangentialStiffness = path.stiffness;
+    path.law.tangentialDamping = kTangentialDampingShare * path.damping;
     if (anchored) {
       // A new point is anchored where it entered: p_sdf(t_hit), p_sdf(0) if it starts inside, the end pose in
       // the discrete model (its only sample).
@@ -502,11 +699,11 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
                              ? path.pointInSdfStart
                              : lerp(path.pointInSdfStart, path.pointInSdfEnd, std::clamp(contact.fraction, 0.0, 1.0));
       path.anchor = input.anchors->matchNext(contact.point, entry);
+      path.anchorInField = input.anchors->anchors()[path.anchor].anchorInField;
     }
     bool pushed = false;
     if (discrete) {
-      pushed = addPenaltySample(field, path, shell, fieldBody, 1.0, timestep, settings, input, useDamping, useFriction,
-                                result) < 0.0;
+      pushed = addPenaltySample(field, path, role, 1.0, timestep, result) < 0.0;
     } else {
       for (std::size_t i = 0; i < contact.intervals.size(); ++i) {
         const Interval& interval = contact.intervals[i];
@@ -514,8 +711,7 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
         if (!(width > 0.0)) continue;  // a touching instant carries no impulse
         for (int j = 0; j < pieces; ++j) {
           const double t = interval.begin + (j + 0.5) * width;
-          if (addPenaltySample(field, path, shell, fieldBody, t, width * timestep, settings, input, useDamping,
-                               useFriction, result, rayleigh) < 0.0) {
+          if (addPenaltySample(field, path, role, t, width * timestep, result, rayleigh) < 0.0) {
             pushed = true;
           }
         }
@@ -538,16 +734,11 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
       if (depth < 0.0) {
         const bool atEnd =
             hasGradient && sameBits(lerp(path.pointInSdfStart, path.pointInSdfEnd, 1.0), path.pointInSdfEnd);
-        normalInWorld =
-            penaltyDirection(field, path, 1.0, depth, settings, input.cellSize, atEnd ? &end.gradient : nullptr);
+        normalInWorld = penaltyDirection(field, path, role, 1.0, depth, atEnd ? &end.gradient : nullptr);
       }
-      FrictionSettings law;
-      law.friction = settings.friction;
-      law.tangentialStiffness = path.stiffness;
-      law.tangentialDamping = kTangentialDampingShare * path.damping;
       const double normalForce = depth < 0.0 ? -path.stiffness * depth : 0.0;
-      const Vec3 normalInSdf = path.worldFromSdfEnd.transpose() * normalInWorld;
-      if (input.anchors->updateAnchor(path.anchor, path.pointInSdfEnd, normalInSdf, normalForce, law) ==
+      const Vec3 normalInSdf = rotateBack(frames.worldFromSdfEnd, normalInWorld);
+      if (input.anchors->updateAnchor(path.anchor, path.pointInSdfEnd, normalInSdf, normalForce, path.law) ==
           FrictionState::Slip) {
         ++result.slippingPoints;
       }
@@ -616,5 +807,6 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 #undef SDFCCD_INSTANTIATE_PENALTY
+#undef SDFCCD_PENALTY_INLINE
 
 }  // namespace sdfccd

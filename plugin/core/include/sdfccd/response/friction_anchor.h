@@ -20,6 +20,7 @@
 /// table; distinct tables may be used from distinct threads.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -51,13 +52,41 @@ struct TangentialForce {
   FrictionState state = FrictionState::Stick;  ///< Slip when the force was capped
 };
 
+namespace detail {
+
+/// v - n (n . v), the part of v perpendicular to the unit normal n, component by component (the operations of the
+/// Eigen expression, which the compiler left out of line, a call per use in the penalty sampling loop).
+inline Vec3 tangentialPart(const Vec3& v, const Vec3& normal) {
+  const double along = normal.dot(v);
+  return Vec3(v.x() - normal.x() * along, v.y() - normal.y() * along, v.z() - normal.z() * along);
+}
+
+}  // namespace detail
+
 /// F_t = -k_t s - c_t v_t, capped at mu max(F_n, 0): s = (p - a) - n (n . (p - a)), v_t likewise from v.
 /// All vectors in one frame (world in the penalty sampling loop): pointInWorld and anchorInWorld (m), unit
 /// normalInWorld, relativeVelocityInWorld of the shell point with respect to the field body at the point (m/s);
-/// normalForce F_n (N). Settings are not validated here (hot loop): validate them once per pair.
-TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
-                                const Vec3& relativeVelocityInWorld, double normalForce,
-                                const FrictionSettings& settings);
+/// normalForce F_n (N). Settings are not validated here (hot loop): validate them once per pair. Inline: the
+/// penalty model calls it at every sample.
+inline TangentialForce tangentialForce(const Vec3& pointInWorld, const Vec3& anchorInWorld, const Vec3& normalInWorld,
+                                       const Vec3& relativeVelocityInWorld, double normalForce,
+                                       const FrictionSettings& settings) {
+  TangentialForce out;
+  out.stretch = detail::tangentialPart(pointInWorld - anchorInWorld, normalInWorld);
+  const Vec3 slip = detail::tangentialPart(relativeVelocityInWorld, normalInWorld);
+  const double stiffness = -settings.tangentialStiffness;
+  const double damping = settings.tangentialDamping;
+  out.force = Vec3(stiffness * out.stretch.x() - damping * slip.x(), stiffness * out.stretch.y() - damping * slip.y(),
+                   stiffness * out.stretch.z() - damping * slip.z());
+  const double cap = settings.friction * std::max(normalForce, 0.0);
+  const double magnitude = out.force.norm();
+  if (magnitude > cap) {
+    const double scale = cap / magnitude;
+    out.force = Vec3(out.force.x() * scale, out.force.y() * scale, out.force.z() * scale);
+    out.state = FrictionState::Slip;
+  }
+  return out;
+}
 
 /// Where an anchor moves to at the end of a step.
 struct AnchorSlip {
@@ -69,8 +98,24 @@ struct AnchorSlip {
 /// (a += (1 - mu F_n / (k_t |s|)) s: its tangential position becomes p - (mu F_n / k_t) s/|s|, the design's
 /// rule, and its offset along the normal is kept); else it stays, bit for bit. Field frame: pointInField (m),
 /// anchorInField (m), unit normalInField; normalForce F_n (N) at the end pose.
-AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
-                      double normalForce, const FrictionSettings& settings);
+inline AnchorSlip slipAnchor(const Vec3& pointInField, const Vec3& anchorInField, const Vec3& normalInField,
+                             double normalForce, const FrictionSettings& settings) {
+  AnchorSlip out;
+  out.anchorInField = anchorInField;
+  const Vec3 stretch = detail::tangentialPart(pointInField - anchorInField, normalInField);
+  const double length = stretch.norm();
+  const double elastic = settings.tangentialStiffness * length;
+  const double cap = settings.friction * std::max(normalForce, 0.0);
+  if (!(elastic > cap) && settings.tangentialStiffness > 0.0) return out;
+  if (!(length > 0.0)) return out;  // no stretch: nothing to drag (also k_t = 0 with the point on its anchor)
+  // k_t = 0: the stretch carries no force, so the anchor follows the point (it holds nothing).
+  const double keep = settings.tangentialStiffness > 0.0 ? cap / elastic : 0.0;
+  const double drag = 1.0 - keep;
+  out.anchorInField = Vec3(anchorInField.x() + drag * stretch.x(), anchorInField.y() + drag * stretch.y(),
+                           anchorInField.z() + drag * stretch.z());
+  out.state = FrictionState::Slip;
+  return out;
+}
 
 /// The anchor of one shell point.
 struct FrictionAnchor {
@@ -109,9 +154,16 @@ class FrictionAnchorTable {
   /// Ends the match: anchors of points not matched are dropped. Returns the counts.
   AnchorMatchResult endMatch();
 
-  /// End-of-step update of anchors()[index] (see slipAnchor()); returns Slip if it moved.
+  /// End-of-step update of anchors()[index] (see slipAnchor()); returns Slip if it moved. Throws sdfccd::Error on
+  /// an index out of range. Inline: the penalty model calls it for every contact.
   FrictionState updateAnchor(std::size_t index, const Vec3& pointInField, const Vec3& normalInField, double normalForce,
-                             const FrictionSettings& settings);
+                             const FrictionSettings& settings) {
+    if (index >= m_anchors.size()) throwIndexOutOfRange();
+    FrictionAnchor& anchor = m_anchors[index];
+    const AnchorSlip slip = slipAnchor(pointInField, anchor.anchorInField, normalInField, normalForce, settings);
+    anchor.anchorInField = slip.anchorInField;
+    return slip.state;
+  }
 
   /// The anchors, sorted by point index; after a match, aligned with the step's contacts.
   const std::vector<FrictionAnchor>& anchors() const { return m_anchors; }
@@ -123,6 +175,8 @@ class FrictionAnchorTable {
   void clear();
 
  private:
+  [[noreturn]] static void throwIndexOutOfRange();
+
   std::vector<FrictionAnchor> m_anchors;   // current, sorted by point
   std::vector<FrictionAnchor> m_previous;  // during a match: last step's anchors
   std::size_t m_cursor = 0;                // during a match: next unvisited entry of m_previous
