@@ -159,24 +159,30 @@ const RoleFrames* keptFieldFrames(Body& fieldBody, const Rigid* bodyFromChild, c
   return kept.key0 == bodyFromChild && kept.key1 == childFromField ? &kept : nullptr;
 }
 
-/// The shell's motion over the step from its frames (a closest-point query: the start pose throughout).
+/// A body's motion over the step from its frames (a closest-point query: the start pose throughout), into the
+/// members of a ShellMotion or a FieldMotion.
 template <class Body>
-void setShellMotion(const Body& shell, const RoleFrames& frames, bool closestPointsOnly, ShellMotion& out) {
-  out.worldFromShellStart = frames.worldFromStart;
-  out.worldFromShellEnd = closestPointsOnly ? out.worldFromShellStart : frames.worldFromEnd;
-  out.centerOfMassInShell = frames.centerOfMass;
-  out.velocity = shell.velocity;
-  out.mass = shell.mass;
+void setMotion(const Body& body, const RoleFrames& frames, bool closestPointsOnly, Rigid& worldFromStart,
+               Rigid& worldFromEnd, Vec3& centerOfMass, BodyVelocities& velocity, BodyInverseMass& mass) {
+  worldFromStart = frames.worldFromStart;
+  worldFromEnd = closestPointsOnly ? worldFromStart : frames.worldFromEnd;
+  centerOfMass = frames.centerOfMass;
+  velocity = body.velocity;
+  mass = body.mass;
 }
 
-/// The same for the field body.
+/// The shell's motion (setMotion).
+template <class Body>
+void setShellMotion(const Body& shell, const RoleFrames& frames, bool closestPointsOnly, ShellMotion& out) {
+  setMotion(shell, frames, closestPointsOnly, out.worldFromShellStart, out.worldFromShellEnd, out.centerOfMassInShell,
+            out.velocity, out.mass);
+}
+
+/// The field body's motion (setMotion).
 template <class Body>
 void setFieldMotion(const Body& fieldBody, const RoleFrames& frames, bool closestPointsOnly, FieldMotion& out) {
-  out.worldFromSdfStart = frames.worldFromStart;
-  out.worldFromSdfEnd = closestPointsOnly ? out.worldFromSdfStart : frames.worldFromEnd;
-  out.centerOfMassInSdf = frames.centerOfMass;
-  out.velocity = fieldBody.velocity;
-  out.mass = fieldBody.mass;
+  setMotion(fieldBody, frames, closestPointsOnly, out.worldFromSdfStart, out.worldFromSdfEnd, out.centerOfMassInSdf,
+            out.velocity, out.mass);
 }
 
 /// The role's input from its facts (the frames as queryContacts wants them: see contact_query.h).
