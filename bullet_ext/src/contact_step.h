@@ -4,7 +4,6 @@
 /// shared by the narrowphase (sdfccd_contact_system.cpp) and the response (sdfccd_contact_response.cpp).
 #pragma once
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -17,14 +16,6 @@
 class btRigidBody;
 
 namespace sdfccd {
-
-/// Every one of the n values finite: Eigen's allFinite(), the same answer, in plain scalar code.
-inline bool finiteEntries(const double* v, int n) {
-  for (int k = 0; k < n; ++k) {
-    if (!std::isfinite(v[k])) return false;
-  }
-  return true;
-}
 
 /// One body's frames as a penalty role's input takes them (penalty_role.h: fillPenaltyInput), for one pair of child
 /// frames (the keys: the frames' addresses, which stay put through the step).
@@ -64,9 +55,9 @@ struct SdfccdContactSystem::BodyStep {
   /// The poses' and velocities' entries all finite (Eigen's allFinite(), the same answer, was out of line and ran
   /// for both bodies of every pair).
   bool finite() const {
-    return finiteEntries(worldFromBodyStart.data(), 16) && finiteEntries(worldFromBodyEnd.data(), 16) &&
-           finiteEntries(velocity.linearStart.data(), 3) && finiteEntries(velocity.linearEnd.data(), 3) &&
-           finiteEntries(velocity.angularStart.data(), 3) && finiteEntries(velocity.angularEnd.data(), 3);
+    return finiteValues(worldFromBodyStart.data(), 16) && finiteValues(worldFromBodyEnd.data(), 16) &&
+           finiteValues(velocity.linearStart.data(), 3) && finiteValues(velocity.linearEnd.data(), 3) &&
+           finiteValues(velocity.angularStart.data(), 3) && finiteValues(velocity.angularEnd.data(), 3);
   }
 };
 

@@ -64,15 +64,6 @@ inline bool segmentMeetsBox(const Vec3& a, const Vec3& b, const Box3& box, doubl
   return true;
 }
 
-/// Every one of the n values finite: Eigen's allFinite() (the same answer) in plain scalar code, which it was not
-/// (out of line, two subtractions and a comparison per entry) in the per-query checks of a pile's many pairs.
-inline bool finiteValues(const double* v, int n) {
-  for (int k = 0; k < n; ++k) {
-    if (!std::isfinite(v[k])) return false;
-  }
-  return true;
-}
-
 template <class Field>
 class RigidCcdQuery {
  public:

@@ -11,6 +11,7 @@
 #include <string>
 #include <type_traits>
 
+#include "response/penalty_vector_ops.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
@@ -89,96 +90,18 @@ namespace {
 /// compound of two 10 cm boxes diverged with a period of 2 steps); half is stable and still holds the anchor.
 constexpr double kTangentialDampingShare = 0.5;
 
-// The sampling loop's helpers are forced inline: left to the compiler's size heuristics, the direction, the
-// friction law and the wrench sums stayed calls, each passing its vectors through memory.
-#if defined(__GNUC__)
-#define SDFCCD_PENALTY_INLINE inline __attribute__((always_inline))
-#else
-#define SDFCCD_PENALTY_INLINE inline
-#endif
-
-/// a + t (b - a), component by component: the very operations (so the very bits) of the Eigen expression, which
-/// the compiler left out of line, a call per lerp in the sampling loop (a sample takes up to eight).
-SDFCCD_PENALTY_INLINE Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
-  return Vec3(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()));
-}
-
-/// A vector linear in t over the step, a + t (b - a) as lerp computes it, with b - a taken once where it is made
-/// (per contact or per role) instead of at every sample: the same subtraction of the same values, the same bits.
-struct LinearVec3 {
-  Vec3 start = Vec3::Zero();
-  Vec3 change = Vec3::Zero();  // end - start
-
-  LinearVec3() = default;
-  LinearVec3(const Vec3& a, const Vec3& b) : start(a), change(b.x() - a.x(), b.y() - a.y(), b.z() - a.z()) {}
-  SDFCCD_PENALTY_INLINE Vec3 at(double t) const {
-    return Vec3(start.x() + t * change.x(), start.y() + t * change.y(), start.z() + t * change.z());
-  }
-};
-
-/// The same for a matrix, entry by entry.
-struct LinearMat3 {
-  Mat3 start = Mat3::Identity();
-  Mat3 change = Mat3::Zero();
-
-  LinearMat3() = default;
-  LinearMat3(const Mat3& a, const Mat3& b) : start(a) {
-    for (int k = 0; k < 9; ++k) change.data()[k] = b.data()[k] - a.data()[k];
-  }
-  SDFCCD_PENALTY_INLINE Mat3 at(double t) const {
-    Mat3 out;
-    for (int k = 0; k < 9; ++k) out.data()[k] = start.data()[k] + t * change.data()[k];
-    return out;
-  }
-};
-
-/// m v as Eigen evaluates `Mat3 * Vec3` on this target (Eigen 3.4, SSE2): rows 0 and 1 as one packet, summed left
-/// to right, row 2 alone, reduced as m20 v0 + (m21 v1 + m22 v2). Written out because the compiler left Eigen's
-/// product out of line in the sampling loop: the same operations in the same order, so the same bits (checked
-/// against Eigen's product on 2e6 random matrices and vectors of mixed magnitudes; the other two associations differ
-/// in a third of them). A build that vectorizes Eigen otherwise (another instruction set, EIGEN_DONT_VECTORIZE) would
-/// round Eigen's products differently; these keep this order there too.
-SDFCCD_PENALTY_INLINE Vec3 rotate(const Mat3& m, const Vec3& v) {
-  return Vec3((m(0, 0) * v.x() + m(0, 1) * v.y()) + m(0, 2) * v.z(),
-              (m(1, 0) * v.x() + m(1, 1) * v.y()) + m(1, 2) * v.z(),
-              m(2, 0) * v.x() + (m(2, 1) * v.y() + m(2, 2) * v.z()));
-}
-
-/// m^T v as Eigen evaluates `Mat3.transpose() * Vec3` on this target: each row (a column of m) left to right.
-SDFCCD_PENALTY_INLINE Vec3 rotateBack(const Mat3& m, const Vec3& v) {
-  return Vec3((m(0, 0) * v.x() + m(1, 0) * v.y()) + m(2, 0) * v.z(),
-              (m(0, 1) * v.x() + m(1, 1) * v.y()) + m(2, 1) * v.z(),
-              (m(0, 2) * v.x() + m(1, 2) * v.y()) + m(2, 2) * v.z());
-}
-
-/// io += v, io -= v, io += s v and io -= s v, component by component (the operations of Eigen's compound assignments,
-/// one of which was a call in the sampling loop).
-SDFCCD_PENALTY_INLINE void addTo(Vec3& io, const Vec3& v) {
-  io = Vec3(io.x() + v.x(), io.y() + v.y(), io.z() + v.z());
-}
-SDFCCD_PENALTY_INLINE void subtractFrom(Vec3& io, const Vec3& v) {
-  io = Vec3(io.x() - v.x(), io.y() - v.y(), io.z() - v.z());
-}
-SDFCCD_PENALTY_INLINE void addScaled(Vec3& io, double s, const Vec3& v) {
-  io = Vec3(io.x() + s * v.x(), io.y() + s * v.y(), io.z() + s * v.z());
-}
-SDFCCD_PENALTY_INLINE void subtractScaled(Vec3& io, double s, const Vec3& v) {
-  io = Vec3(io.x() - s * v.x(), io.y() - s * v.y(), io.z() - s * v.z());
-}
-/// s v.
-SDFCCD_PENALTY_INLINE Vec3 scaled(double s, const Vec3& v) {
-  return Vec3(s * v.x(), s * v.y(), s * v.z());
-}
-
-/// v / length, component by component (length > 0: v's norm).
-SDFCCD_PENALTY_INLINE Vec3 unit(const Vec3& v, double length) {
-  return Vec3(v.x() / length, v.y() / length, v.z() / length);
-}
-
-/// Are all components finite? (Eigen's allFinite() was a call.)
-SDFCCD_PENALTY_INLINE bool allFinite(const Vec3& v) {
-  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
-}
+// The sampling loop's vector arithmetic (penalty_vector_ops.h).
+using detail::scalar_ops::addScaled;
+using detail::scalar_ops::addTo;
+using detail::scalar_ops::lerp;
+using detail::scalar_ops::LinearMat3;
+using detail::scalar_ops::LinearVec3;
+using detail::scalar_ops::rotate;
+using detail::scalar_ops::rotateBack;
+using detail::scalar_ops::scaled;
+using detail::scalar_ops::subtractFrom;
+using detail::scalar_ops::subtractScaled;
+using detail::scalar_ops::unit;
 
 /// Is every component +0.0 (the bits of zero, not a -0)?
 bool positiveZero(const Vec3& v) {
@@ -287,16 +210,16 @@ struct SampleRole {
 /// Precomputed, per contact: the point's trajectory and what interpolates linearly in t. Built in place (the
 /// trajectory's members are not first zeroed: a fifth of the per-contact set-up).
 struct PenaltyPointPath {
-  Vec3 pointInSdfStart, pointInSdfEnd;  // field frame
-  LinearVec3 pointInSdf;                // from pointInSdfStart to pointInSdfEnd
-  LinearVec3 normalInWorld;             // shell's outward normal
-  LinearVec3 handleShell;               // world, from the shell body's COM to the point
-  LinearVec3 handleField;               // world, from the field body's COM to the point
-  Vec3 anchorInField = Vec3::Zero();    // the point's anchor (anchor friction), as matched this step
-  double stiffness = 0.0;               // k_i, N/m
-  double damping = 0.0;                 // c_i, N s/m
-  FrictionSettings law;                 // anchor friction's tangential law for this point
-  std::size_t anchor = 0;               // index in the anchor table (anchor friction)
+  Vec3 pointInSdfEnd;                 // field frame (kept: start + 1 (end - start) need not round back to it)
+  LinearVec3 pointInSdf;              // from its start (pointInSdf.start) to pointInSdfEnd
+  LinearVec3 normalInWorld;           // shell's outward normal
+  LinearVec3 handleShell;             // world, from the shell body's COM to the point
+  LinearVec3 handleField;             // world, from the field body's COM to the point
+  Vec3 anchorInField = Vec3::Zero();  // the point's anchor (anchor friction), as matched this step
+  double stiffness = 0.0;             // k_i, N/m
+  double damping = 0.0;               // c_i, N s/m
+  FrictionSettings law;               // anchor friction's tangential law for this point
+  std::size_t anchor = 0;             // index in the anchor table (anchor friction)
 
   PenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
                    const PenaltyPathFrames& frames)
@@ -306,9 +229,8 @@ struct PenaltyPointPath {
  private:
   PenaltyPointPath(const Vec3& pointInWorldStart, const Vec3& pointInWorldEnd, const Vec3& normalInShell,
                    const ShellMotion& shell, const PenaltyPathFrames& frames)
-      : pointInSdfStart(frames.sdfFromWorldStart * pointInWorldStart),
-        pointInSdfEnd(frames.sdfFromWorldEnd * pointInWorldEnd),
-        pointInSdf(pointInSdfStart, pointInSdfEnd),
+      : pointInSdfEnd(frames.sdfFromWorldEnd * pointInWorldEnd),
+        pointInSdf(frames.sdfFromWorldStart * pointInWorldStart, pointInSdfEnd),
         normalInWorld(shell.worldFromShellStart.linear() * normalInShell,
                       shell.worldFromShellEnd.linear() * normalInShell),
         handleShell(pointInWorldStart - frames.shellComStart, pointInWorldEnd - frames.shellComEnd),
@@ -404,7 +326,7 @@ SDFCCD_PENALTY_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPoi
         const Vec3 towards = lerp(awayStart, awayEnd, t);
         away = Vec3(-towards.x(), -towards.y(), -towards.z());
         const double awayLength = away.norm();
-        hasAway = allFinite(away) && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
+        hasAway = finiteValues(away.data(), 3) && awayLength > 0.0;  // else: the shell normal (a flat spot of phi)
         if (hasAway) away = unit(away, awayLength);
       }
       if (hasAway) {
@@ -413,7 +335,7 @@ SDFCCD_PENALTY_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPoi
         const double shellSquared = shellNormal.squaredNorm();
         Vec3 blended = away;
         if (shellSquared > 0.0) {
-          if (w == 0.0 && allFinite(shellNormal)) {
+          if (w == 0.0 && finiteValues(shellNormal.data(), 3)) {
             // Shallow (most samples): 1 away_i is away_i, and 0 (s_i / |s|) is the zero of s_i's sign, 0 s_i (s_i
             // finite, |s| > 0: the quotient is finite), so the same bits without the norm and the divisions.
             blended = Vec3(away.x() + 0.0 * shellNormal.x(), away.y() + 0.0 * shellNormal.y(),
@@ -509,7 +431,7 @@ SDFCCD_PENALTY_INLINE double addPenaltySample(const Field& field, const PenaltyP
     const Vec3 shellLinear = role.shellLinear.at(t);
     const Vec3 velocityShell(shellLinear.x() + handleRateShell.x(), shellLinear.y() + handleRateShell.y(),
                              shellLinear.z() + handleRateShell.z());
-    if (role.fieldAtRest && std::isfinite(t) && allFinite(handleField)) {
+    if (role.fieldAtRest && std::isfinite(t) && finiteValues(handleField.data(), 3)) {
       // A field body at rest (the ground): its velocity at t is +0 + t (+0) = +0 and its turn +0 x h a zero for
       // finite t and h, so its material point's velocity is +0 + (a zero) = +0, and v - (+0) is v, bit for bit.
       handleRateField = velocityShell;
@@ -696,8 +618,8 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
       // the discrete model (its only sample).
       const Vec3 entry = discrete ? path.pointInSdfEnd
                          : contact.state == SegmentState::StartsInside
-                             ? path.pointInSdfStart
-                             : lerp(path.pointInSdfStart, path.pointInSdfEnd, std::clamp(contact.fraction, 0.0, 1.0));
+                             ? path.pointInSdf.start
+                             : path.pointInSdf.at(std::clamp(contact.fraction, 0.0, 1.0));
       path.anchor = input.anchors->matchNext(contact.point, entry);
       path.anchorInField = input.anchors->anchors()[path.anchor].anchorInField;
     }
@@ -732,8 +654,7 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
       const double depth = end.distance - settings.sigma;
       Vec3 normalInWorld = Vec3::Zero();
       if (depth < 0.0) {
-        const bool atEnd =
-            hasGradient && sameBits(lerp(path.pointInSdfStart, path.pointInSdfEnd, 1.0), path.pointInSdfEnd);
+        const bool atEnd = hasGradient && sameBits(path.pointInSdf.at(1.0), path.pointInSdfEnd);
         normalInWorld = penaltyDirection(field, path, role, 1.0, depth, atEnd ? &end.gradient : nullptr);
       }
       const double normalForce = depth < 0.0 ? -path.stiffness * depth : 0.0;
@@ -807,6 +728,5 @@ PenaltyResult integratePenalty(const std::vector<Vec3>& pointsInShell, const Fie
 SDFCCD_FOR_EACH_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 SDFCCD_FOR_EACH_TRIANGLE_FIELD(SDFCCD_INSTANTIATE_PENALTY)
 #undef SDFCCD_INSTANTIATE_PENALTY
-#undef SDFCCD_PENALTY_INLINE
 
 }  // namespace sdfccd
