@@ -185,7 +185,9 @@ void setFieldMotion(const Body& fieldBody, const RoleFrames& frames, bool closes
             out.velocity, out.mass);
 }
 
-/// The role's input from its facts (the frames as queryContacts wants them: see contact_query.h).
+/// The role's input from its facts (the frames as queryContacts wants them: see contact_query.h). Every write here
+/// is unconditional and the same for every role: the parallel batch reuses one input per thread
+/// (SdfccdContactSystem::queuePenaltyRole), whose other fields must keep their defaults.
 template <class Body>
 void fillPenaltyInput(const PenaltyRoleFacts<Body>& f, PenaltyRoleInput& in) {
   const Body& shell = *f.shell;

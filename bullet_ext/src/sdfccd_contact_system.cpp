@@ -60,8 +60,19 @@ SdfccdContactSystem::~SdfccdContactSystem() = default;
 SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionObjectWrapper* wrap, double timeStep,
                                                              bool contactMass) {
   const btCollisionObject* object = wrap->getCollisionObject();
+  // Asked twice per pair (an 80-body pile: ~2,000 times per step): the guess by world index spares most lookups
+  // of the map, which stays the one record of which objects have their step (m_bodies holds each object once).
+  const int worldIndex = object->getWorldArrayIndex();
+  const auto guess = static_cast<std::size_t>(worldIndex);
+  if (worldIndex >= 0 && guess < m_bodyGuess.size() && m_bodyGuess[guess] < m_bodies.size() &&
+      m_bodies[m_bodyGuess[guess]].object == object) {
+    return m_bodies[m_bodyGuess[guess]];
+  }
   const auto found = m_bodyIndex.find(object);
-  if (found != m_bodyIndex.end()) return m_bodies[found->second];
+  if (found != m_bodyIndex.end()) {
+    if (worldIndex >= 0 && guess < m_bodyGuess.size()) m_bodyGuess[guess] = found->second;
+    return m_bodies[found->second];
+  }
   const detail::PredictedMotion motion = detail::predictBodyMotion(*object, timeStep);
   BodyStep step;
   step.object = object;
@@ -73,6 +84,10 @@ SdfccdContactSystem::BodyStep& SdfccdContactSystem::bodyStep(const btCollisionOb
   step.mass = motion.mass;
   if (contactMass) applyContactMass(step, timeStep);  // not for a closest-point query: it changes velocities
   step.finiteState = step.finite();
+  if (worldIndex >= 0) {
+    if (guess >= m_bodyGuess.size()) m_bodyGuess.resize(guess + 1, std::size_t(-1));
+    m_bodyGuess[guess] = m_bodies.size();
+  }
   m_bodyIndex.emplace(object, m_bodies.size());
   m_bodies.push_back(step);
   return m_bodies.back();
@@ -85,6 +100,15 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   // (a hashed lookup misses the cache three times; an 80-body pile looks up ~2,000 slots per step).
   const SlotKey key{manifold, role};
   AnchorSlot* slot = nullptr;
+  // Written field by field in place: a SlotVisit{...} temporary is copied with `rep movs`, slow to start.
+  const auto recordVisit = [&] {
+    SlotVisit& visit = m_slotOrder.emplace_back();
+    visit.key = key;
+    visit.slot = slot;
+    visit.shellObject = shell;
+    visit.fieldObject = field;
+    visit.step = m_stepCounter;
+  };
   if (m_slotCursor < m_lastSlotOrder.size() && m_lastSlotOrder[m_slotCursor].key == key) {
     const SlotVisit& last = m_lastSlotOrder[m_slotCursor];
     slot = last.slot;
@@ -94,7 +118,12 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
       ++m_slotCursor;
       slot->lastStep = m_stepCounter;
       slot->order = m_slotOrder.size();
-      m_slotOrder.push_back(SlotVisit{key, slot, shell, field, m_stepCounter});
+      recordVisit();
+#if defined(__GNUC__)
+      // The next lookup's slot, most likely: its bookkeeping line is written then, and is cold (a role's work
+      // in between touches other memory). A hint only: a wrong guess costs one load.
+      if (m_slotCursor < m_lastSlotOrder.size()) __builtin_prefetch(m_lastSlotOrder[m_slotCursor].slot, 1);
+#endif
       return *slot;
     }
   } else {
@@ -115,7 +144,7 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   if (slot->lastStep != m_stepCounter) {  // this step's walk, for the next step's guesses
     slot->lastStep = m_stepCounter;
     slot->order = m_slotOrder.size();
-    m_slotOrder.push_back(SlotVisit{key, slot, shell, field, m_stepCounter});
+    recordVisit();
   }
   return *slot;
 }
@@ -206,8 +235,10 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
   // The pair's material, combined the Bullet way (design 2.6), unless the settings override it.
   const btCollisionObject* object0 = wrap0->getCollisionObject();
   const btCollisionObject* object1 = wrap1->getCollisionObject();
-  const PenaltySettings pairPenalty = combinedPenalty(object0, object1);  // per-body overrides (setBodyContact)
-  const PenaltySettings& penalty = pairPenalty;
+  // Per-body overrides (setBodyContact) combined; without any, the world's settings themselves (no copy per pair).
+  std::optional<PenaltySettings> combined;
+  if (!m_bodyContacts.empty()) combined = combinedPenalty(object0, object1);
+  const PenaltySettings& penalty = combined ? *combined : m_settings.penalty;
   const double friction =
       penalty.frictionFromBodies ? double(gCalculateCombinedFrictionCallback(object0, object1)) : penalty.friction;
   double dampingRatio = penalty.dampingRatio;
@@ -229,18 +260,21 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     role.roleScale = bothRoles ? 0.5 : 1.0;
     role.friction = std::clamp(friction, 0.0, kMaxCombinedFriction);
     role.dampingRatio = dampingRatio;
-    role.penalty = &pairPenalty;
+    role.penalty = &penalty;
     role.manifold = manifold;
     role.index = roleIndex;
     const btCollisionShape* shellShape = shellWrap->getCollisionShape();
     const btCollisionShape* fieldShape = fieldWrap->getCollisionShape();
+    const bool shellOurs = (shellWrap == wrap0 ? kind0 : kind1) == ShapeKind::Ours;
+    const ShapeKind fieldKind = fieldWrap == wrap0 ? kind0 : kind1;
+    const bool fieldOurs = fieldKind == ShapeKind::Ours;
     const bool anchors = !closestPointsOnly && penalty.enableFriction && penalty.frictionModel == FrictionModel::Anchor;
     // The CCD history only for our shell tree against our grid field (both persistent, owned by the shapes'
     // BodyModels, and keyed by instance id) or the analytic plane and box (keyed by their values). Other shells
     // and fields are per-step objects: no history.
-    const bool coherent = !closestPointsOnly && m_settings.coherentCcd && isSdfccdShape(shellShape) &&
-                          (isSdfccdShape(fieldShape) || detail::shapeKind(fieldShape) == ShapeKind::Plane ||
-                           fieldShape->getShapeType() == BOX_SHAPE_PROXYTYPE);
+    const bool coherent =
+        !closestPointsOnly && m_settings.coherentCcd && shellOurs &&
+        (fieldOurs || fieldKind == ShapeKind::Plane || fieldShape->getShapeType() == BOX_SHAPE_PROXYTYPE);
     if (anchors || coherent) {  // one map lookup per role (a pile has thousands of slots)
       // anchorSlot() keeps the slot: it forgets table and history when another pair reuses the manifold.
       AnchorSlot& slot =
@@ -250,16 +284,15 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     }
     ++roleIndex;
     // Our shell against our field or a plane may run in the step's parallel batch (deferred_queries.h).
-    role.deferrable = !closestPointsOnly && isSdfccdShape(shellShape) &&
-                      (isSdfccdShape(fieldShape) || detail::shapeKind(fieldShape) == ShapeKind::Plane);
-    if (isSdfccdShape(fieldShape)) {
+    role.deferrable = !closestPointsOnly && shellOurs && (fieldOurs || fieldKind == ShapeKind::Plane);
+    if (fieldOurs) {
       const BodyModel& fieldModel = static_cast<const SdfccdShape*>(fieldShape)->model();
       role.bodyFromField = fieldModel.bodyFromField();
       role.modelBodyFromField = &fieldModel.bodyFromField();
-      if (isSdfccdShape(shellShape)) {
+      if (shellOurs) {
         role.shellTree = &static_cast<const SdfccdShape*>(shellShape)->model().tree();
       } else {
-        role.shellTree = detail::shapeKind(shellShape) == ShapeKind::Mesh
+        role.shellTree = (shellWrap == wrap0 ? kind0 : kind1) == ShapeKind::Mesh
                              ? meshVertexTree(role, shellShape, fieldShape)
                              : otherShellTree(shellShape, fieldModel.cellSize());
         if (role.shellTree == nullptr) return;
@@ -271,7 +304,6 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
     const BodyModel& shellModel = static_cast<const SdfccdShape*>(shellShape)->model();
     role.shellTree = &shellModel.tree();
     const double shellCell = shellModel.cellSize();
-    const ShapeKind fieldKind = detail::shapeKind(fieldShape);
     if (fieldKind == ShapeKind::Plane) {
       const auto* plane = static_cast<const btStaticPlaneShape*>(fieldShape);
       const PlaneField planeField(toVec3(plane->getPlaneNormal()), double(plane->getPlaneConstant()));
@@ -389,7 +421,10 @@ void SdfccdContactSystem::queuePenaltyRole(const Role& role, const Field& field,
       m_bodyContacts.empty() || role.penalty == nullptr ? &m_settings.penalty : &m_deferred->stash(*role.penalty);
   const auto run = [](const void* data, detail::RoleResult& out) {
     const Plan& p = *static_cast<const Plan*>(data);
-    detail::PenaltyRoleInput in;
+    // One input per thread, reused: fillPenaltyInput writes the same fields for every role, unconditionally, and
+    // nothing else writes any, so the rest keep their defaults as in a fresh one; building a fresh one per role
+    // (~1.2 KB: four identity frames, the default settings) was 0.9% of a pile's instructions.
+    static thread_local detail::PenaltyRoleInput in;
     detail::fillPenaltyInput(p.facts, in);
     detail::computePenaltyRole(*p.tree, p.field.get(), in, out);
   };

@@ -65,9 +65,20 @@ void SdfccdShape::processAllTriangles(btTriangleCallback* callback, const btVect
   }
 }
 
+namespace {
+constexpr char kShapeName[] = "SdfccdShape";
+}  // namespace
+
+const char* SdfccdShape::getName() const {
+  return kShapeName;
+}
+
 bool isSdfccdShape(const btCollisionShape* shape) {
-  return shape != nullptr && shape->getShapeType() == CUSTOM_CONCAVE_SHAPE_TYPE &&
-         std::strcmp(shape->getName(), "SdfccdShape") == 0;
+  if (shape == nullptr || shape->getShapeType() != CUSTOM_CONCAVE_SHAPE_TYPE) return false;
+  // Asked for every role of every pair each step: our own name is recognised by its address, without reading it
+  // (the characters are compared only for another custom concave shape, or a copy of the name from elsewhere).
+  const char* name = shape->getName();
+  return name == kShapeName || std::strcmp(name, kShapeName) == 0;
 }
 
 }  // namespace sdfccd

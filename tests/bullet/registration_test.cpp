@@ -10,9 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "bullet_test_util.h"
+#include "bullet_world_fixture.h"
 #include "sdfccd/bullet/sdfccd_collision_algorithm.h"
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
@@ -70,6 +72,109 @@ TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
   EXPECT_EQ(ours.getShapeType(), CUSTOM_CONCAVE_SHAPE_TYPE);
   EXPECT_TRUE(isSdfccdShape(&ours));
   EXPECT_FALSE(isSdfccdShape(&box));
+}
+
+/// A user's shape of our type id (btSdfCollisionShape's too) whose name is whatever it is given.
+class NamedCustomConcaveShape : public btConcaveShape {
+ public:
+  explicit NamedCustomConcaveShape(std::string name) : m_name(std::move(name)) {
+    m_shapeType = CUSTOM_CONCAVE_SHAPE_TYPE;
+  }
+  void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override {
+    aabbMin = t.getOrigin() - btVector3(1, 1, 1);
+    aabbMax = t.getOrigin() + btVector3(1, 1, 1);
+  }
+  void processAllTriangles(btTriangleCallback*, const btVector3&, const btVector3&) const override {}
+  void setLocalScaling(const btVector3& scaling) override { m_scaling = scaling; }
+  const btVector3& getLocalScaling() const override { return m_scaling; }
+  void calculateLocalInertia(btScalar, btVector3& inertia) const override { inertia.setValue(0, 0, 0); }
+  const char* getName() const override { return m_name.c_str(); }
+
+ private:
+  std::string m_name;
+  btVector3 m_scaling{1, 1, 1};
+};
+
+// isSdfccdShape knows our shape by its name's address first, then by its characters: a shape of our type id is
+// ours exactly when its name reads "SdfccdShape", wherever that text is stored.
+TEST(Registration, OurShapeIsKnownByTypeAndNameWhereverTheNameLives) {
+  SdfccdShape ours(smallSphereModel());
+  EXPECT_STREQ(ours.getName(), "SdfccdShape");
+  SdfccdShape other(smallSphereModel());
+  EXPECT_EQ(ours.getName(), other.getName());  // one address for every instance (the fast path)
+  const NamedCustomConcaveShape copyOfOurName(std::string("Sdfccd") + "Shape");  // same text, other address
+  ASSERT_NE(copyOfOurName.getName(), ours.getName());
+  EXPECT_TRUE(isSdfccdShape(&copyOfOurName));
+  EXPECT_FALSE(isSdfccdShape(static_cast<const btCollisionShape*>(nullptr)));
+  for (const char* name : {"SdfccdShap", "SdfccdShape ", "sdfccdShape", "SDF", ""}) {
+    const NamedCustomConcaveShape user(name);
+    EXPECT_FALSE(isSdfccdShape(&user)) << '"' << name << '"';
+  }
+}
+
+// The contact system finds each body's motion of the step by its world array index first (a guess it checks against
+// the object). Removing a body moves the world's last object into its index: here a box takes the index of a box
+// that had contacts. It must move exactly as in a world where nothing is removed: each body's response is its own
+// pairs' (with the guess taken unchecked its lookup returns the ground's motion: a pair of one body).
+TEST(Registration, RemovingABodyMidRunLeavesTheOthersTheirOwnMotions) {
+  BodyModelSettings model;
+  model.resolution = 24;
+  model.points = 200;
+  const auto box = BodyModel::buildFromMesh(makeBox(Vec3(0.1, 0.05, 0.1)), model);
+  struct Run {
+    btTransform pose;
+    btVector3 velocity, angularVelocity;
+    Vec3 force = Vec3::Zero();  // on the box that stays, summed over the steps after the removal
+    int pairsAfter = 0;         // pairs reported in the steps after the removal
+    bool onlyTheBoxOnTheGround = true;
+  };
+  const auto run = [&box](bool remove) {
+    SdfccdContactSettings settings;
+    settings.mode = SdfccdContactMode::Penalty;  // the force on the box is its contact's, reported per step
+    test::BulletTestWorld w{settings};
+    // In this order the step meets the removed box first, then the ground, then the box that stays (Bullet's pairs
+    // list the earlier added body first); after the removal the box that stays has index 0, whose guess is the
+    // removed box's place, 0, and the ground, met first now, holds that place.
+    btRigidBody& removed = w.add(std::make_unique<SdfccdShape>(box), 1.0, Vec3(-0.5, 0.06, 0.0));
+    btRigidBody& ground =
+        w.add(std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(0)), 0.0, Vec3::Zero());
+    btRigidBody& stays = w.add(std::make_unique<SdfccdShape>(box), 1.0, Vec3(0.5, 0.06, 0.0));
+    EXPECT_EQ(stays.getWorldArrayIndex(), 2);
+    w.step(300, 0.001);
+    EXPECT_EQ(w.contacts->lastStepContacts().size(), 2u);  // both boxes on the ground
+    if (remove) {
+      w.world.removeRigidBody(&removed);
+      EXPECT_EQ(stays.getWorldArrayIndex(), 0);
+    }
+    Run r;
+    for (int i = 0; i < 300; ++i) {
+      w.step(1, 0.001);
+      for (const SdfccdPairContact& pair : w.contacts->lastStepContacts()) {
+        ++r.pairsAfter;
+        if (pair.shellObject != &stays) continue;
+        r.onlyTheBoxOnTheGround = r.onlyTheBoxOnTheGround && pair.fieldObject == &ground;
+        r.force += pair.forceOnShell;
+      }
+    }
+    r.pose = stays.getCenterOfMassTransform();
+    r.velocity = stays.getLinearVelocity();
+    r.angularVelocity = stays.getAngularVelocity();
+    if (remove) w.world.addRigidBody(&removed);  // the fixture removes every body it added
+    return r;
+  };
+  const Run kept = run(false);
+  const Run removed = run(true);
+  EXPECT_EQ(kept.pairsAfter, 600);
+  EXPECT_EQ(removed.pairsAfter, 300);  // the box that stays, on the ground, every step
+  EXPECT_TRUE(removed.onlyTheBoxOnTheGround);
+  EXPECT_EQ(removed.force, kept.force);
+  EXPECT_NEAR(removed.force.y() / 300, 9.81, 0.2);  // its contact carries its weight m g
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(removed.pose.getOrigin()[k], kept.pose.getOrigin()[k]);
+    EXPECT_EQ(removed.velocity[k], kept.velocity[k]);
+    EXPECT_EQ(removed.angularVelocity[k], kept.angularVelocity[k]);
+  }
+  EXPECT_TRUE(removed.pose.getBasis() == kept.pose.getBasis());
 }
 
 // Bullet's convex shapes (beyond the paper): box, sphere and the three capsules, both orders, both query types.

@@ -359,6 +359,9 @@ class SdfccdContactSystem : public btActionInterface {
   std::set<std::pair<int, int>> m_announcedPairs;            // shape type pairs announced unsupported
   std::vector<BodyStep> m_bodies;
   std::unordered_map<const btCollisionObject*, std::size_t> m_bodyIndex;
+  // A guess per world array index (btCollisionObject::getWorldArrayIndex) of the object's place in m_bodies, tried
+  // before the map (bodyStep): right when that place holds the object, never reset.
+  std::vector<std::size_t> m_bodyGuess;
   std::vector<Record> m_records;
   // Per-area law: each dynamic body's contact load of the last step (read) and of this step (written).
   std::unordered_map<const btCollisionObject*, ContactLoad> m_contactLoads, m_nextContactLoads;

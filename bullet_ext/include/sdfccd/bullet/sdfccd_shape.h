@@ -76,9 +76,8 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
   }
   /// The principal moments of the mesh's solid for `mass` (the body frame is the principal frame).
   void calculateLocalInertia(btScalar mass, btVector3 & inertia) const override;
-  const char* getName() const override {
-    return "SdfccdShape";
-  }
+  /// "SdfccdShape", always the same pointer (isSdfccdShape compares it before the characters).
+  const char* getName() const override;
   /// Ray tests and convex sweeps: the triangles near the surface crossings the field finds (see "Queries"
   /// above); any other callback (debug draw, ...): the mesh triangles whose box overlaps [aabbMin, aabbMax]
   /// (body frame).

@@ -32,7 +32,7 @@ std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const Po
 
 /// Distance from `p` to the box (0 inside).
 inline double distanceToBox(const Vec3& p, const Box3& box) {
-  const Vec3 nearest = p.cwiseMax(box.min()).cwiseMin(box.max());
+  const Vec3 nearest = detail::scalar_ops::clampToBox(p, box);
   return (nearest - p).norm();
 }
 
@@ -286,7 +286,7 @@ class CoherentQuery {
   RigidCcdCoherence::Entry certify(int node) const {
     RigidCcdCoherence::Entry e{node, m_endPose, 0.0, 0.0, RigidCcdCoherence::Kind::None};
     const Vec3 c1 = m_query.endOf(m_tree.center(node));
-    if (m_bounds.bounded && !m_bounds.box.contains(c1)) {
+    if (m_bounds.bounded && !detail::scalar_ops::boxContains(m_bounds.box, c1)) {
       e.kind = RigidCcdCoherence::Kind::Box;
       e.clearance = distanceToBox(c1, m_bounds.box);
     } else {

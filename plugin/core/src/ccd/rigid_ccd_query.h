@@ -13,6 +13,7 @@
 #include <cmath>
 #include <vector>
 
+#include "inline_vector_ops.h"
 #include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/field_interface.h"
@@ -99,8 +100,14 @@ class RigidCcdQuery {
     m_node.method = CcdMethod::Exact;
   }
 
-  Vec3 startOf(const Vec3& pointInShell) const { return m_r0 * pointInShell + m_t0; }
-  Vec3 endOf(const Vec3& pointInShell) const { return m_r1 * pointInShell + m_t1; }
+  // Eigen's `m_r0 * x + m_t0`, written out and forced inline (inline_vector_ops.h): left to the compiler, both
+  // Eigen's expression and these functions stayed calls, one per point.
+  SDFCCD_FORCE_INLINE Vec3 startOf(const Vec3& pointInShell) const {
+    return detail::scalar_ops::transformPoint(m_r0, pointInShell, m_t0);
+  }
+  SDFCCD_FORCE_INLINE Vec3 endOf(const Vec3& pointInShell) const {
+    return detail::scalar_ops::transformPoint(m_r1, pointInShell, m_t1);
+  }
 
   bool ignored(int point) const { return m_settings.ignoredPoints && (*m_settings.ignoredPoints)[point] != 0; }
 
@@ -129,7 +136,7 @@ class RigidCcdQuery {
       double enter = 0.0;
       if (!segmentMeetsBox(c0, c1, grown, enter)) return false;  // no point below can enter the box
       if (m_bounds.boundaryMin - reach <= m_settings.sigma &&
-          !(m_bounds.box.contains(c0) && m_bounds.box.contains(c1))) {
+          !(detail::scalar_ops::boxContains(m_bounds.box, c0) && detail::scalar_ops::boxContains(m_bounds.box, c1))) {
         // The centre passes outside the box near a face low enough to touch: keep (conservative), but no point
         // below touches before the centre comes within rho of the box.
         if (enter > reachFraction) return false;
@@ -139,7 +146,7 @@ class RigidCcdQuery {
     }
     // Lipschitz early-out (short steps, the simulation case): phi along the segment stays above
     // phi(c0) - lipschitz * |c1 - c0|, on the part inside the box when c0 is (the box is convex).
-    if (!m_bounds.bounded || m_bounds.box.contains(c0)) {
+    if (!m_bounds.bounded || detail::scalar_ops::boxContains(m_bounds.box, c0)) {
       const double lowest =
           m_field.distance(c0) - m_bounds.lipschitz * (c1 - c0).norm() * reachFraction * tolerance::kBoundGrowth - jump;
       if (lowest > sigmaNode) return false;
@@ -256,9 +263,9 @@ class RigidCcdQuery {
       const double rho = m_tree.radius(node);
       const double reach =
           m_bounds.lipschitz * rho * tolerance::kBoundGrowth + fieldJumpNear(m_field, m_bounds, c0, c0, rho);
-      if (m_bounds.bounded && !m_bounds.box.contains(c0)) {
+      if (m_bounds.bounded && !detail::scalar_ops::boxContains(m_bounds.box, c0)) {
         // Points below lie within rho of c0; inside the box phi >= boundaryMin - L rho there.
-        const Vec3 nearest = c0.cwiseMax(m_bounds.box.min()).cwiseMin(m_bounds.box.max());
+        const Vec3 nearest = detail::scalar_ops::clampToBox(c0, m_bounds.box);
         if ((nearest - c0).norm() > rho || m_bounds.boundaryMin - reach > m_settings.sigma) continue;
       } else if (m_field.distance(c0) - reach > m_settings.sigma) {
         continue;
@@ -267,7 +274,9 @@ class RigidCcdQuery {
         const int point = m_tree.point(node);
         if (ignored(point)) continue;
         const Vec3 p0 = startOf(m_tree.shell().positions[point]);
-        if ((m_bounds.bounded && !m_bounds.box.contains(p0)) || m_field.distance(p0) > m_settings.sigma) continue;
+        if ((m_bounds.bounded && !detail::scalar_ops::boxContains(m_bounds.box, p0)) ||
+            m_field.distance(p0) > m_settings.sigma)
+          continue;
         ++out.stats.nodesVisited;
         candidate.clear();
         queryPoint(point, scratch.segment, candidate, out.stats);  // the same query as the linear traversal's

@@ -36,6 +36,7 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
   const bool certifiedClear =
       settings.coherence && rigidCcdCertifiedClear(shellTree, field, shellStartInSdf, outResult.sdfFromShellEnd, ccd,
                                                    *settings.coherence, outResult.ccd);
+  double ccdEnd = 0.0;  // the CCD clock's last reading, when it ran
   if (!certifiedClear) {
     const double ccdStart = clocks.ccd ? clocks.ccd() : 0.0;
     if (settings.coherence) {
@@ -43,7 +44,10 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
     } else {
       rigidCcd(shellTree, field, shellStartInSdf, outResult.sdfFromShellEnd, ccd, outResult.ccd);
     }
-    if (clocks.ccd) outResult.ccdSeconds = clocks.ccd() - ccdStart;
+    if (clocks.ccd) {
+      ccdEnd = clocks.ccd();
+      outResult.ccdSeconds = ccdEnd - ccdStart;
+    }
   }
 
   if (!settings.integratePenalty) return;
@@ -52,7 +56,9 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
     checkPenaltyInput(pointsInShell.size(), outResult.ccd, timestep, settings.penalty);
     return;
   }
-  const double penaltyStart = clocks.penalty ? clocks.penalty() : 0.0;
+  // On the same clock the penalty's time starts where the CCD's ended (a clock read less per touching role).
+  const bool sameClock = !certifiedClear && clocks.penalty == clocks.ccd;
+  const double penaltyStart = clocks.penalty ? (sameClock ? ccdEnd : clocks.penalty()) : 0.0;
   PenaltyRoleInput input;
   input.cellSize = settings.cellSize;
   input.anchors = settings.anchors;

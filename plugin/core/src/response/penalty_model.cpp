@@ -264,8 +264,8 @@ void setConstantAway(const Field& field, const FieldMotion& fieldBody, PenaltyPa
 /// cell lookup: GridField::distance and ::gradient interpolate that cell each, so the values are bit-identical
 /// and a penalty sample pays one lookup instead of two.
 template <class Field>
-SDFCCD_PENALTY_INLINE double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& outGradient,
-                                                  bool& outHasGradient) {
+SDFCCD_FORCE_INLINE double distanceWithGradient(const Field& field, const Vec3& pointInSdf, Vec3& outGradient,
+                                                bool& outHasGradient) {
   outHasGradient = false;
   if constexpr (std::is_same_v<Field, GridField>) {
     if (field.grid().contains(pointInSdf)) {
@@ -302,8 +302,8 @@ bool sameBits(const Vec3& a, const Vec3& b) {
 /// The unit direction the field body is pushed at fraction t, depth d (< 0); zero when there is none.
 /// `gradientAtT`: the field's gradient at the point at t when already known (else looked up).
 template <class Field>
-SDFCCD_PENALTY_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, const SampleRole& role,
-                                            double t, double depth, const Vec3* gradientAtT = nullptr) {
+SDFCCD_FORCE_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPointPath& path, const SampleRole& role,
+                                          double t, double depth, const Vec3* gradientAtT = nullptr) {
   const PenaltyPathFrames& frames = role.frames;
   const Vec3 shellNormal = path.normalInWorld.at(t);
   Vec3 normal = shellNormal;
@@ -376,7 +376,7 @@ struct PairWrench {
   Vec3 torqueOnField = Vec3::Zero();  // N m s, about the field body's centre of mass
   Vec3 torqueOnShell = Vec3::Zero();  // N m s, about the shell body's centre of mass
 
-  SDFCCD_PENALTY_INLINE void add(const Vec3& onField, const Vec3& handleField, const Vec3& handleShell) {
+  SDFCCD_FORCE_INLINE void add(const Vec3& onField, const Vec3& handleField, const Vec3& handleShell) {
     addTo(forceOnField, onField);
     addTo(torqueOnField, handleField.cross(onField));
     subtractFrom(torqueOnShell, handleShell.cross(onField));
@@ -405,9 +405,9 @@ void finishPairDamping(const PairDamping& pair, PenaltyResult& io) {
 /// Adds the force at fraction t, weighted by `weight` seconds, to `io`. With `pairDamping`, the damping is the
 /// pair's Rayleigh damping (see PairDamping). Returns the depth d (model units).
 template <class Field>
-SDFCCD_PENALTY_INLINE double addPenaltySample(const Field& field, const PenaltyPointPath& path, const SampleRole& role,
-                                              double t, double weight, PenaltyResult& io,
-                                              PairDamping* pairDamping = nullptr) {
+SDFCCD_FORCE_INLINE double addPenaltySample(const Field& field, const PenaltyPointPath& path, const SampleRole& role,
+                                            double t, double weight, PenaltyResult& io,
+                                            PairDamping* pairDamping = nullptr) {
   const Vec3 pointInSdf = path.pointInSdf.at(t);
   Vec3 gradient;
   bool hasGradient = false;

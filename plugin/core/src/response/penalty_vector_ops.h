@@ -4,23 +4,20 @@
 /// and forced inline (Eigen's were calls there). Private to the core.
 #pragma once
 
+#include "inline_vector_ops.h"
 #include "sdfccd/math_types.h"
 
 namespace sdfccd {
 namespace detail {
 namespace scalar_ops {
 
-// The sampling loop's helpers are forced inline: left to the compiler's size heuristics, the direction, the
-// friction law and the wrench sums stayed calls, each passing its vectors through memory.
-#if defined(__GNUC__)
-#define SDFCCD_PENALTY_INLINE inline __attribute__((always_inline))
-#else
-#define SDFCCD_PENALTY_INLINE inline
-#endif
+// The sampling loop's helpers are forced inline (SDFCCD_FORCE_INLINE, inline_vector_ops.h): left to the compiler's size
+// heuristics, the direction, the friction law and the wrench sums stayed calls, each passing its vectors through
+// memory.
 
 /// a + t (b - a), component by component: the very operations (so the very bits) of the Eigen expression, which
 /// the compiler left out of line, a call per lerp in the sampling loop (a sample takes up to eight).
-SDFCCD_PENALTY_INLINE Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
+SDFCCD_FORCE_INLINE Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
   return Vec3(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()));
 }
 
@@ -32,7 +29,7 @@ struct LinearVec3 {
 
   LinearVec3() = default;
   LinearVec3(const Vec3& a, const Vec3& b) : start(a), change(b.x() - a.x(), b.y() - a.y(), b.z() - a.z()) {}
-  SDFCCD_PENALTY_INLINE Vec3 at(double t) const {
+  SDFCCD_FORCE_INLINE Vec3 at(double t) const {
     return Vec3(start.x() + t * change.x(), start.y() + t * change.y(), start.z() + t * change.z());
   }
 };
@@ -46,53 +43,34 @@ struct LinearMat3 {
   LinearMat3(const Mat3& a, const Mat3& b) : start(a) {
     for (int k = 0; k < 9; ++k) change.data()[k] = b.data()[k] - a.data()[k];
   }
-  SDFCCD_PENALTY_INLINE Mat3 at(double t) const {
+  SDFCCD_FORCE_INLINE Mat3 at(double t) const {
     Mat3 out;
     for (int k = 0; k < 9; ++k) out.data()[k] = start.data()[k] + t * change.data()[k];
     return out;
   }
 };
 
-/// m v as Eigen evaluates `Mat3 * Vec3` on this target (Eigen 3.4, SSE2): rows 0 and 1 as one packet, summed left
-/// to right, row 2 alone, reduced as m20 v0 + (m21 v1 + m22 v2). Written out because the compiler left Eigen's
-/// product out of line in the sampling loop: the same operations in the same order, so the same bits (checked
-/// against Eigen's product on 2e6 random matrices and vectors of mixed magnitudes; the other two associations differ
-/// in a third of them). A build that vectorizes Eigen otherwise (another instruction set, EIGEN_DONT_VECTORIZE) would
-/// round Eigen's products differently; these keep this order there too.
-SDFCCD_PENALTY_INLINE Vec3 rotate(const Mat3& m, const Vec3& v) {
-  return Vec3((m(0, 0) * v.x() + m(0, 1) * v.y()) + m(0, 2) * v.z(),
-              (m(1, 0) * v.x() + m(1, 1) * v.y()) + m(1, 2) * v.z(),
-              m(2, 0) * v.x() + (m(2, 1) * v.y() + m(2, 2) * v.z()));
-}
-
-/// m^T v as Eigen evaluates `Mat3.transpose() * Vec3` on this target: each row (a column of m) left to right.
-SDFCCD_PENALTY_INLINE Vec3 rotateBack(const Mat3& m, const Vec3& v) {
-  return Vec3((m(0, 0) * v.x() + m(1, 0) * v.y()) + m(2, 0) * v.z(),
-              (m(0, 1) * v.x() + m(1, 1) * v.y()) + m(2, 1) * v.z(),
-              (m(0, 2) * v.x() + m(1, 2) * v.y()) + m(2, 2) * v.z());
-}
-
 /// io += v, io -= v, io += s v and io -= s v, component by component (the operations of Eigen's compound assignments,
 /// one of which was a call in the sampling loop).
-SDFCCD_PENALTY_INLINE void addTo(Vec3& io, const Vec3& v) {
+SDFCCD_FORCE_INLINE void addTo(Vec3& io, const Vec3& v) {
   io = Vec3(io.x() + v.x(), io.y() + v.y(), io.z() + v.z());
 }
-SDFCCD_PENALTY_INLINE void subtractFrom(Vec3& io, const Vec3& v) {
+SDFCCD_FORCE_INLINE void subtractFrom(Vec3& io, const Vec3& v) {
   io = Vec3(io.x() - v.x(), io.y() - v.y(), io.z() - v.z());
 }
-SDFCCD_PENALTY_INLINE void addScaled(Vec3& io, double s, const Vec3& v) {
+SDFCCD_FORCE_INLINE void addScaled(Vec3& io, double s, const Vec3& v) {
   io = Vec3(io.x() + s * v.x(), io.y() + s * v.y(), io.z() + s * v.z());
 }
-SDFCCD_PENALTY_INLINE void subtractScaled(Vec3& io, double s, const Vec3& v) {
+SDFCCD_FORCE_INLINE void subtractScaled(Vec3& io, double s, const Vec3& v) {
   io = Vec3(io.x() - s * v.x(), io.y() - s * v.y(), io.z() - s * v.z());
 }
 /// s v.
-SDFCCD_PENALTY_INLINE Vec3 scaled(double s, const Vec3& v) {
+SDFCCD_FORCE_INLINE Vec3 scaled(double s, const Vec3& v) {
   return Vec3(s * v.x(), s * v.y(), s * v.z());
 }
 
 /// v / length, component by component (length > 0: v's norm).
-SDFCCD_PENALTY_INLINE Vec3 unit(const Vec3& v, double length) {
+SDFCCD_FORCE_INLINE Vec3 unit(const Vec3& v, double length) {
   return Vec3(v.x() / length, v.y() / length, v.z() / length);
 }
 
