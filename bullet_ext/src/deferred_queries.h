@@ -55,10 +55,23 @@ struct HeldField<PlaneField> {
 /// One role's work that touches no Bullet object: the query and what is computed from it (penalty_role.h,
 /// solver_contacts.cpp). The stepping thread then applies it (statistics, manifold points, impulses, records).
 struct RoleResult {
-  ContactQueryResult query;    // penalty mode: queryContacts; solver mode: the CCD in `ccd`, `ccdSeconds`
+  // What every role writes comes first (a result is written a step after its last use, into cold cache lines:
+  // a role without contacts writes the first two lines).
   double roleScale = 1.0;      // s_r of the role (penalty mode's contact load)
   bool ground = false;         // the field is a plane (the ground's statistics)
+  bool hasRecord = false;      // the CCD found contacts: `record` holds the role's step
   double shadowSeconds = 0.0;  // the point-by-point repeat's CPU time (shadowLinearEvery), 0 when none ran
+  // Penalty mode: what the stepping thread reads of the role's query (penalty_role.h). The query itself is
+  // computed in the thread's own result and stays there, warm for the thread's next query (its ~600 bytes
+  // written here missed the cache at every role).
+  struct PenaltySummary {
+    double ccdSeconds = 0.0;  // queryContacts' clocks (ContactQueryResult)
+    double penaltySeconds = 0.0;
+    std::int64_t segmentQueries = 0;        // the CCD's (RigidCcdStats)
+    bool touched = false;                   // the CCD found contacts
+    PairResponseCoefficients coefficients;  // the per-area law's caps (the contact load, softenedPairs)
+  };
+  PenaltySummary penalty;
   // Penalty mode: the deepest points at the step's end (world; normal on the manifold's convention, depth < 0).
   struct ManifoldPoint {
     Vec3 normal = Vec3::Zero();
@@ -66,7 +79,7 @@ struct RoleResult {
     double depth = 0.0;
   };
   std::vector<ManifoldPoint> manifoldPoints;
-  bool hasRecord = false;  // the CCD found contacts: `record` holds the role's step
+  ContactQueryResult query;  // solver mode: the CCD in `ccd`, `ccdSeconds` (penalty mode: unused, see `penalty`)
   ContactRecord record;
   // Solver mode: the role's candidates at the step's start, with their rebound and solver distance.
   std::vector<ContactCandidate> candidates;

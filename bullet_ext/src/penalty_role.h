@@ -248,15 +248,22 @@ void computePenaltyRole(const PointTree& tree, const Field& field, const Penalty
   ContactQueryClocks clocks;
   clocks.ccd = ccdClock(in.cpuClock);
   clocks.penalty = &steadySeconds;
-  queryContacts(tree, field, in.shellMotion, in.fieldMotion, in.timeStep, in.query, out.query, clocks);
+  // The query in this thread's own result (its buffers warm from the thread's last query); `out` gets its summary.
+  thread_local ContactQueryResult query;
+  queryContacts(tree, field, in.shellMotion, in.fieldMotion, in.timeStep, in.query, query, clocks);
   out.roleScale = in.roleScale;
   out.ground = in.ground;
   out.shadowSeconds = 0.0;
-  out.manifoldPoints.clear();
   out.hasRecord = false;
-  const RigidCcdResult& ccdResult = out.query.ccd;
-  const Rigid& sdfFromShellStart = out.query.sdfFromShellStart;
-  const Rigid& sdfFromShellEnd = out.query.sdfFromShellEnd;
+  out.penalty.ccdSeconds = query.ccdSeconds;
+  out.penalty.penaltySeconds = query.penaltySeconds;
+  out.penalty.segmentQueries = query.ccd.stats.segmentQueries;
+  out.penalty.touched = !query.ccd.contacts.empty();
+  out.penalty.coefficients = query.coefficients;
+  if (!out.manifoldPoints.empty()) out.manifoldPoints.clear();  // (its size lives on the result's third line)
+  const RigidCcdResult& ccdResult = query.ccd;
+  const Rigid& sdfFromShellStart = query.sdfFromShellStart;
+  const Rigid& sdfFromShellEnd = query.sdfFromShellEnd;
   if (in.shadowLinear) {
     RigidCcdSettings linear;
     linear.sigma = in.query.penalty.sigma;
@@ -309,7 +316,7 @@ void computePenaltyRole(const PointTree& tree, const Field& field, const Penalty
   out.hasRecord = true;
   record.shell = in.shell;
   record.field = in.field;
-  record.penalty = out.query.penalty;
+  record.penalty = query.penalty;
   record.maxPenetrationCells = record.penalty.maxPenetration / in.cellSize;
   record.firstFraction = ccdResult.firstFraction;
   record.timeStep = in.timeStep;

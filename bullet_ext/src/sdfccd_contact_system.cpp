@@ -443,7 +443,7 @@ const Rigid* SdfccdContactSystem::lastingFrame(const Rigid& frame, const Rigid* 
 
 void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btManifoldResult* resultOut,
                                            bool closestPointsOnly) {
-  const ContactQueryResult& query = result.query;
+  const detail::RoleResult::PenaltySummary& query = result.penalty;
   m_stats.shadowLinearSeconds += result.shadowSeconds;
   m_stats.ccdSeconds += query.ccdSeconds;
   if (result.ground) {
@@ -452,8 +452,8 @@ void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btM
   }
   if (query.coefficients.stiffnessCapped) ++m_stats.softenedPairs;
   ++m_stats.ccdQueries;
-  m_stats.segmentQueries += query.ccd.stats.segmentQueries;
-  if (query.ccd.contacts.empty()) return;
+  m_stats.segmentQueries += query.segmentQueries;
+  if (!query.touched) return;
   for (const detail::RoleResult::ManifoldPoint& p : result.manifoldPoints) {
     resultOut->addContactPoint(toBt(p.normal), toBt(p.point), btScalar(p.depth));
   }

@@ -151,7 +151,8 @@ class CoherentQuery {
         m_field(field),
         m_settings(settings),
         m_cache(cache),
-        m_segment(rigidCcdScratch().segment),
+        m_scratch(rigidCcdScratch()),
+        m_segment(m_scratch.segment),
         m_end(end) {
     m_bounds = fieldCullingBounds(field);
     prepareCache(start, end);
@@ -159,7 +160,7 @@ class CoherentQuery {
   }
 
   void run(RigidCcdResult& out) {
-    std::vector<RigidCcdCoherence::Entry>& next = m_cache.scratchFront;
+    std::vector<RigidCcdCoherence::Entry>& next = m_scratch.front;
     next.clear();
     m_cache.frontCertified = false;  // until the new front is folded (an exception leaves the fast path off)
     m_cache.lastEndValid = false;    // until rememberEnd (likewise)
@@ -172,9 +173,10 @@ class CoherentQuery {
         descend(entry.node, out, next);
       }
     }
-    m_cache.front.swap(next);
+    // Copied, not swapped: the history's buffer was just read (warm), the thread's is reused by its next query.
+    m_cache.front.assign(next.begin(), next.end());
     const bool compacted = compactPoses();
-    rememberEnd(m_end, compacted ? &m_cache.scratchRemap : nullptr);
+    rememberEnd(m_end, compacted ? &m_scratch.remap : nullptr);
     m_cache.frontBound = m_fold;
     m_cache.frontCertified = m_foldComplete && !m_cache.front.empty();
     std::sort(out.contacts.begin(), out.contacts.end(),
@@ -302,7 +304,7 @@ class CoherentQuery {
   /// The fresh traversal below `root` (depth first, so the new front stays in tree order): inner nodes by the
   /// fresh culling test, leaves by the same point query.
   void descend(int root, RigidCcdResult& out, std::vector<RigidCcdCoherence::Entry>& next) {
-    std::vector<int>& stack = m_cache.scratchStack;
+    std::vector<int>& stack = m_scratch.stack;
     stack.clear();
     stack.push_back(root);
     while (!stack.empty()) {
@@ -403,7 +405,7 @@ class CoherentQuery {
     // certificates keep their poses, and deep in a hole they may keep many (a compaction walks the whole front).
     if (c.poses.size() < kCoherencePoses || c.poses.size() < c.posesAfterCompaction + kCoherencePoses / 2) return false;
     // In place, in the cache's buffers: this runs on most queries of a long contact (allocation-free).
-    std::vector<int>& remap = c.scratchRemap;
+    std::vector<int>& remap = m_scratch.remap;
     remap.assign(c.poses.size(), -1);
     // Certificates at the older half of the poses move to the end pose, so that the kept poses (one motion each
     // per query, prepareCache) stay few: by the triangle inequality a certificate at pose k holds at the end
@@ -448,12 +450,13 @@ class CoherentQuery {
   const int* m_parent = nullptr;  // the shared tree tables (RigidCcdCoherence::TreeTables)
   const double* m_reach = nullptr;
   int m_endPose = -1;
-  AxisCertificates<Field> m_axis;                                   // off unless the history asks for axis certificates
-  std::vector<double>& m_rotation = m_cache.scratchRotation;        // per kept pose: largest ||R - R_k||_F over the
-  std::vector<double>& m_translation = m_cache.scratchTranslation;  // step's two poses, and largest |t - t_k|
-  std::vector<double>& m_rotationToEnd = m_cache.scratchRotationToEnd;        // per kept pose: ||R_end - R_k||_F and
-  std::vector<double>& m_translationToEnd = m_cache.scratchTranslationToEnd;  // |t_end - t_k|
-  RigidCcdCoherence::FrontBound m_fold;                                       // the new front's bound (foldEntry)
+  AxisCertificates<Field> m_axis;                                  // off unless the history asks for axis certificates
+  RigidCcdScratch& m_scratch;                                      // this thread's buffers (rigid_ccd_query.h)
+  std::vector<double>& m_rotation = m_scratch.rotation;            // per kept pose: largest ||R - R_k||_F over the
+  std::vector<double>& m_translation = m_scratch.translation;      // step's two poses, and largest |t - t_k|
+  std::vector<double>& m_rotationToEnd = m_scratch.rotationToEnd;  // per kept pose: ||R_end - R_k||_F and
+  std::vector<double>& m_translationToEnd = m_scratch.translationToEnd;  // |t_end - t_k|
+  RigidCcdCoherence::FrontBound m_fold;                                  // the new front's bound (foldEntry)
   bool m_foldEmpty = true;
   bool m_foldComplete = true;  // every entry folded carries a certificate
   SegmentCcdResult& m_segment;

@@ -15,6 +15,7 @@
 
 #include "inline_vector_ops.h"
 #include "sdfccd/ccd/rigid_ccd.h"
+#include "sdfccd/ccd/rigid_ccd_coherence.h"
 #include "sdfccd/error.h"
 #include "sdfccd/field/field_interface.h"
 #include "sdfccd/parallel_for.h"
@@ -36,6 +37,16 @@ struct RigidCcdScratch {
   std::vector<NodeTask> next;
   std::vector<NodeTask> frontier;  // the threaded query's work items (the calling thread also runs tasks)
   SegmentCcdResult segment;
+  // The coherent query's (rigid_ccd_coherent.h) buffers of one query: per thread, not per history, so that a
+  // pile's ~2,000 histories a step write their new fronts into memory this thread has just used (a buffer per
+  // history was cold at every query, a step after its last use), and each history keeps only what lasts.
+  std::vector<RigidCcdCoherence::Entry> front;  // the new front, copied into the history at the end
+  std::vector<int> stack;                       // the fresh traversal below a node
+  std::vector<double> rotation;                 // per kept pose (CoherentQuery's members of the same names)
+  std::vector<double> translation;
+  std::vector<double> rotationToEnd;
+  std::vector<double> translationToEnd;
+  std::vector<int> remap;  // compactPoses: old pose index to new
 };
 
 inline RigidCcdScratch& rigidCcdScratch() {

@@ -108,13 +108,7 @@ class RigidCcdCoherence {
   std::vector<double> lastRotationToEnd;
   std::vector<double> lastTranslationToEnd;
   std::vector<Vec3> lastAxisToEnd;  // 2 per pose, as scratchAxisMotion (empty without axis certificates)
-  std::vector<Entry> scratchFront;  // reused buffers
-  std::vector<int> scratchStack;
-  std::vector<double> scratchRotation;
-  std::vector<double> scratchTranslation;
-  std::vector<double> scratchRotationToEnd;
-  std::vector<double> scratchTranslationToEnd;
-  std::vector<int> scratchRemap;
+  // The axis certificates' reused buffers (the query's others are its thread's: rigid_ccd_query.h).
   std::vector<Vec3> scratchAxisMotion;
   std::vector<Vec3> scratchAxisToEnd;
 };
