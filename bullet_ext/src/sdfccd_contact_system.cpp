@@ -458,7 +458,8 @@ void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btM
     resultOut->addContactPoint(toBt(p.normal), toBt(p.point), btScalar(p.depth));
   }
   if (closestPointsOnly || !result.hasRecord) return;
-  Record record = result.record;
+  m_records.push_back(result.record);  // one copy, into its place
+  Record& record = m_records.back();
   m_stats.penaltySeconds += query.penaltySeconds;
   m_stats.penaltySamples += record.penalty.samples;
   m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
@@ -471,7 +472,6 @@ void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btM
     applyPenaltyImpulses(record);
     record.applied = true;
   }
-  m_records.push_back(std::move(record));
 }
 
 // registerSdfccdAlgorithms(): sdfccd_registration.cpp.

@@ -118,8 +118,8 @@ void SdfccdContactSystem::planStep(const btDispatcherInfo& dispatchInfo) {
                                          -1, -1);
     const btCollisionObjectWrapper wrap1(nullptr, object1->getCollisionShape(), object1, object1->getWorldTransform(),
                                          -1, -1);
-    btManifoldResult unused(&wrap0, &wrap1);
-    processPair(&wrap0, &wrap1, dispatchInfo, &unused, algorithm->manifold(), algorithm->solverPair(), false);
+    // No result object: planning only queues (processPair touches resultOut when it applies, never while planning).
+    processPair(&wrap0, &wrap1, dispatchInfo, nullptr, algorithm->manifold(), algorithm->solverPair(), false);
   }
   scope.reset();
   m_deferred->finish();
