@@ -3,6 +3,7 @@
 #include "narrowphase_pool.h"
 
 #include <chrono>
+#include <stdexcept>
 
 namespace sdfccd::detail {
 
@@ -43,6 +44,18 @@ constexpr std::chrono::microseconds kPublishSpin{3};
 /// How long close() spins for the workers' last tasks before it sleeps.
 constexpr std::chrono::microseconds kDoneSpin{20};
 
+/// The back half of NarrowphasePool::m_claims while the batch is open (the front stops at m_published).
+constexpr std::uint64_t kOpen = 0xFFFFFFFFu;
+inline std::size_t frontOf(std::uint64_t claims) {
+  return static_cast<std::size_t>(claims & 0xFFFFFFFFu);
+}
+inline std::size_t backOf(std::uint64_t claims) {
+  return static_cast<std::size_t>(claims >> 32);
+}
+inline std::uint64_t claimsOf(std::uint64_t front, std::uint64_t back) {
+  return front | (back << 32);
+}
+
 inline void cpuRelax() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
@@ -53,30 +66,48 @@ inline void cpuRelax() {
 void NarrowphasePool::awaitTasks(std::size_t i) {
   const auto spinEnd = std::chrono::steady_clock::now() + kPublishSpin;
   for (int spin = 1;; ++spin) {
-    if (m_closed.load() || m_published.load() > i || m_next.load() != i) return;
+    if (m_closed.load() || m_published.load() > i || frontOf(m_claims.load()) != i) return;
     cpuRelax();
     if (spin % 32 == 0 && std::chrono::steady_clock::now() > spinEnd) break;
   }
   std::unique_lock<std::mutex> lock(m_mutex);
   m_sleepers.fetch_add(1);  // before the predicate's check: publish() sees it, or the check sees its count
-  m_more.wait(lock, [&] { return m_closed.load() || m_published.load() > i || m_next.load() != i; });
+  m_more.wait(lock, [&] { return m_closed.load() || m_published.load() > i || frontOf(m_claims.load()) != i; });
   m_sleepers.fetch_sub(1);
 }
 
 void NarrowphasePool::drain(const std::function<void(std::size_t)>& task) {
   for (;;) {
-    std::size_t i = m_next.load();
+    std::uint64_t claims = m_claims.load();
+    const std::size_t i = frontOf(claims);
+    if (i >= backOf(claims)) return;  // every task claimed (the back is set only when the batch is closed)
     if (i >= m_published.load()) {
-      if (m_closed.load() && i >= m_published.load()) return;  // closed: m_published is final
+      if (m_closed.load()) continue;  // closed meanwhile: the back is set, look again
       awaitTasks(i);
       continue;
     }
-    if (!m_next.compare_exchange_weak(i, i + 1)) continue;  // another thread claimed it: try the next
+    if (!m_claims.compare_exchange_weak(claims, claims + 1)) continue;  // another claim came first: look again
     task(i);
-    if (m_finished.fetch_add(1) + 1 == m_published.load() && m_closed.load()) {
-      const std::lock_guard<std::mutex> lock(m_mutex);  // the caller checks under the lock: no lost wake-up
-      m_done.notify_all();
-    }
+    finishOne();
+  }
+}
+
+void NarrowphasePool::drainBack(const std::function<void(std::size_t)>& task) {
+  for (;;) {
+    std::uint64_t claims = m_claims.load();
+    const std::size_t front = frontOf(claims);
+    const std::size_t back = backOf(claims);
+    if (front >= back) return;
+    if (!m_claims.compare_exchange_weak(claims, claimsOf(front, back - 1))) continue;
+    task(back - 1);
+    finishOne();
+  }
+}
+
+void NarrowphasePool::finishOne() {
+  if (m_finished.fetch_add(1) + 1 == m_published.load() && m_closed.load()) {
+    const std::lock_guard<std::mutex> lock(m_mutex);  // the caller checks under the lock: no lost wake-up
+    m_done.notify_all();
   }
 }
 
@@ -102,7 +133,7 @@ void NarrowphasePool::begin(const std::function<void(std::size_t)>& task) {
   {
     const std::lock_guard<std::mutex> lock(m_mutex);
     m_task = &task;
-    m_next = 0;
+    m_claims = claimsOf(0, kOpen);
     m_published = 0;
     m_closed = false;
     m_finished = 0;
@@ -126,6 +157,9 @@ void NarrowphasePool::publish(std::size_t count) {
 
 void NarrowphasePool::close(std::size_t total) {
   const std::function<void(std::size_t)>* task = m_task;
+  // Both ends of the claims share a 64-bit word (m_claims): a batch holds fewer than 2^32 - 1 tasks (a step's has
+  // two per pair).
+  if (total >= kOpen) throw std::length_error("NarrowphasePool: a batch of 2^32 - 1 tasks or more");
   if (m_workers.empty()) {
     for (std::size_t i = 0; i < total; ++i) (*task)(i);
     m_task = nullptr;
@@ -134,10 +168,14 @@ void NarrowphasePool::close(std::size_t total) {
   {
     const std::lock_guard<std::mutex> lock(m_mutex);
     m_published = total;
+    // The back end: from now on the caller claims there (the workers' front claims may change the word meanwhile).
+    std::uint64_t claims = m_claims.load();
+    while (!m_claims.compare_exchange_weak(claims, claimsOf(frontOf(claims), total))) {
+    }
     m_closed = true;
   }
   m_more.notify_all();
-  drain(*task);
+  drainBack(*task);
   // The workers' last tasks: spin a little before sleeping (a sleep and its wake-up cost the stepping thread tens
   // of microseconds on a virtual machine, more than most tasks take).
   const auto spinEnd = std::chrono::steady_clock::now() + kDoneSpin;

@@ -13,6 +13,7 @@
 /// output (results are then bit-identical for any thread count). One batch at a time (run() is not reentrant).
 /// A batch may also be streamed (begin, publish, close): the workers start on the first tasks while the caller
 /// still prepares the next ones (the step's planning pass, serial, overlaps the CCD of the pairs planned so far).
+/// The workers claim tasks from the front, the caller (when it closes the batch) from the back.
 #pragma once
 
 #include <atomic>
@@ -52,6 +53,10 @@ class NarrowphasePool {
   /// Waits (spins briefly, then sleeps) until task `i` may be published, claimed by another thread, or the batch
   /// closed; `i` is the next task to claim that this thread saw unpublished.
   void awaitTasks(std::size_t i);
+  /// Claims and runs tasks at the back until none is left (close()).
+  void drainBack(const std::function<void(std::size_t)>& task);
+  /// One task has run (a claim at either end): counts it, and wakes the caller when it was the batch's last.
+  void finishOne();
 
   int m_threads = 1;
   std::vector<std::thread> m_workers;
@@ -66,7 +71,13 @@ class NarrowphasePool {
   std::atomic<int> m_active{0};  // workers inside the current batch (changed under m_mutex; close() spins on it)
   bool m_stop = false;
   // What the claiming threads write on every task, apart from what the publisher writes (false sharing).
-  alignas(64) std::atomic<std::size_t> m_next{0};  // the next task to claim
+  // The tasks still to claim are [front, back): the workers claim at the front, the caller, once it closes the
+  // batch, at the back. A task then tends to run on the same thread step after step (the pairs come in Bullet's
+  // order every step), so what it reads and writes (a pair's CCD history, its anchors) stays in that core's cache;
+  // claimed from one end by both, the half the caller took landed on either core at random. Both ends in one word,
+  // so that a claim at either end sees the other: the low half is the front, the high half the back (kOpen until
+  // close() sets it; the front then stops at m_published).
+  alignas(64) std::atomic<std::uint64_t> m_claims{0};
   std::atomic<std::size_t> m_finished{0};
   alignas(64) std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed
   std::atomic<bool> m_closed{false};                    // m_published is the batch's total

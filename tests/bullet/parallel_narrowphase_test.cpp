@@ -7,10 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "../../bullet_ext/src/bullet_shape_fields.h"
@@ -199,6 +201,43 @@ TEST(NarrowphasePool, StreamedBatchRunsEveryPublishedTaskOnceAfterItsInput) {
       }
     }
   }
+}
+
+// The workers claim from the front, the caller (once it closes the batch) from the back: with one worker, the
+// worker's tasks are a prefix of the batch and the caller's the rest, every batch (so a task tends to stay on one
+// core from step to step). Tasks take a few microseconds, so that both threads get some.
+TEST(NarrowphasePool, WorkersClaimTheFrontAndTheCallerTheBack) {
+  detail::NarrowphasePool pool(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  int callerRan = 0;
+  int workerRan = 0;
+  for (int batch = 0; batch < 200; ++batch) {
+    const std::size_t total = 40 + static_cast<std::size_t>(batch % 25);
+    std::vector<char> byCaller(total, 0);
+    std::vector<std::atomic<int>> runs(total);
+    const std::function<void(std::size_t)> task = [&](std::size_t i) {
+      runs[i].fetch_add(1);
+      byCaller[i] = std::this_thread::get_id() == caller ? 1 : 0;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(5);
+      while (std::chrono::steady_clock::now() < until) {
+      }
+    };
+    pool.begin(task);
+    pool.publish(total / 4);  // the worker may start on these while the caller "plans" the rest
+    pool.close(total);
+    std::size_t firstByCaller = total;
+    for (std::size_t i = 0; i < total; ++i) {
+      ASSERT_EQ(runs[i].load(), 1) << "batch " << batch << ", task " << i;
+      if (byCaller[i] && firstByCaller == total) firstByCaller = i;
+      if (firstByCaller < total) {
+        ASSERT_EQ(byCaller[i], 1) << "batch " << batch << ": the worker ran task " << i << " after the caller's "
+                                  << firstByCaller;
+      }
+      (byCaller[i] ? callerRan : workerRan) += 1;
+    }
+  }
+  EXPECT_GT(callerRan, 0);
+  EXPECT_GT(workerRan, 0);
 }
 
 // A streamed DeferredQueries batch computes what was added, refuses more than its capacity (the role is then
