@@ -67,6 +67,7 @@ struct BenchBulletOptions {
   ModeBenchOptions modes;                         // --part modes and stable
   std::string scalingPlot = "bench_scaling.png";  // --part scaling's PNG
   std::vector<int> scalingBodies;                 // --part scaling's pile sizes (empty: the defaults)
+  int repeat = 1;  // --part table4 and scaling: runs of each measurement, the median reported
 };
 
 struct Table4Row {
@@ -82,6 +83,12 @@ std::ostringstream g_csv;
 
 void csvRow(const std::string& part, const std::string& item, const std::string& key, double value) {
   g_csv << part << "," << item << "," << key << "," << value << "\n";
+}
+
+/// The median (the lower one of the middle two for an even count) of a measurement's repeats (--repeat).
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0.0 : values[(values.size() - 1) / 2];
 }
 
 // One drop of a Table 4 scene; the CCD times between the objects (s, thread CPU).
@@ -115,15 +122,18 @@ Table4Run runTable4Scene(const Scene& scene, int frames, const BenchBulletOption
 void runPileCcd(const BenchBulletOptions& o) {
   const Scene scene = loadScene(o.scenes + "/drop-bunnies.json");
   const int frames = o.quick ? scene.frames / 4 : scene.frames;
-  double seconds[2] = {0.0, 0.0};
-  for (int coherent = 0; coherent < 2; ++coherent) {
-    SceneWorldSettings settings;
-    settings.cacheDir = o.cache;
-    settings.coherentCcd = coherent == 1;
-    SceneWorld world(scene, settings);
-    for (int f = 0; f < frames; ++f) world.step();
-    seconds[coherent] = world.contacts().statistics().ccdSeconds;
+  std::vector<double> tries[2];
+  for (int r = 0; r < o.repeat; ++r) {
+    for (int coherent = 0; coherent < 2; ++coherent) {
+      SceneWorldSettings settings;
+      settings.cacheDir = o.cache;
+      settings.coherentCcd = coherent == 1;
+      SceneWorld world(scene, settings);
+      for (int f = 0; f < frames; ++f) world.step();
+      tries[coherent].push_back(world.contacts().statistics().ccdSeconds);
+    }
   }
+  const double seconds[2] = {median(tries[0]), median(tries[1])};
   std::printf("20-bunny drop (drop-bunnies, %d frames): CCD %.3f s fresh, %.3f s coherent (%.2fx)\n", frames,
               seconds[0], seconds[1], seconds[1] > 0 ? seconds[0] / seconds[1] : 0.0);
   csvRow("table4", "20 bunnies", "ccd_seconds", seconds[0]);
@@ -138,16 +148,31 @@ void runTable4(const BenchBulletOptions& o) {
       {"china bowl", "drop-bowl.json", 20.3, 4.5, 1, 1},
       {"dragon", "drop-dragon.json", 671.6, 2.6, 20, 100},
   };
-  std::printf("\nTable 4: CCD time between the objects during a drop (s, one thread)%s\n",
-              o.quick ? " -- QUICK: a quarter of the frames" : "");
+  std::printf("\nTable 4: CCD time between the objects during a drop (s, one thread)%s%s\n",
+              o.quick ? " -- QUICK: a quarter of the frames" : "",
+              o.repeat > 1 ? (", each time the median of " + std::to_string(o.repeat) + " drops").c_str() : "");
   std::printf("%-11s %9s %7s | %11s %9s %8s | %9s %8s | %11s %9s %8s | %9s\n", "model", "#points", "#frames", "linear",
               "tree", "speedup", "coherent", "speedup", "paper lin.", "paper tree", "speedup", "ground");
   for (const Table4Row& row : rows) {
     Scene scene = loadScene(o.scenes + "/" + row.scene);
     const int frames = o.quick ? scene.frames / 4 : scene.frames;
     const int shadowEvery = o.quick ? row.shadowEveryQuick : row.shadowEvery;
-    const Table4Run fresh = runTable4Scene(scene, frames, o, shadowEvery, false);
-    const Table4Run coherent = runTable4Scene(scene, frames, o, 0, true);
+    // With --repeat: fresh and coherent drops in turns, each column the median of its repeats.
+    Table4Run fresh;
+    Table4Run coherent;
+    std::vector<double> linears, trees, coherentTrees, grounds;
+    for (int r = 0; r < o.repeat; ++r) {
+      fresh = runTable4Scene(scene, frames, o, shadowEvery, false);
+      coherent = runTable4Scene(scene, frames, o, 0, true);
+      linears.push_back(fresh.linear);
+      trees.push_back(fresh.tree);
+      grounds.push_back(fresh.ground);
+      coherentTrees.push_back(coherent.tree);
+    }
+    fresh.linear = median(linears);
+    fresh.tree = median(trees);
+    fresh.ground = median(grounds);
+    coherent.tree = median(coherentTrees);
     const double linear = fresh.linear;
     const bool extrapolated = shadowEvery > 1;
     std::printf("%-11s %9d %7d | %10.2f%s %9.2f %7.1fx | %9.2f %7.1fx | %11.1f %9.1f %7.1fx | %9.2f\n", row.label,
@@ -379,6 +404,7 @@ int runBenchBullet(BenchBulletOptions o) {
     scaling.cache = o.cache;
     scaling.plot = o.scalingPlot;
     scaling.bodies = o.scalingBodies;
+    scaling.repeat = o.repeat;
     runScalingBench(scaling, csvRow);
   }
   if (!o.csv.empty()) {
@@ -403,6 +429,9 @@ const BenchRegistrar bench_bulletRegistrar(
       sub.add_option("--scaling-plot", o->scalingPlot, "Scaling: the PNG (default bench_scaling.png; empty: none)");
       sub.add_option("--scaling-bodies", o->scalingBodies, "Scaling: pile sizes (default 20,80,320; --quick 4,12)")
           ->delimiter(',');
+      sub.add_option("--repeat", o->repeat,
+                     "Table 4 and scaling: runs of each measurement, in turns; the median is reported (default 1)")
+          ->check(CLI::Range(1, 100));
       sub.add_option("--mode-seconds", o->modes.timingSeconds,
                      "Modes: simulated seconds per world (default 1; --quick 0.3)");
       sub.add_option("--gimpact-seconds", o->modes.gimpactSeconds,

@@ -90,6 +90,12 @@ ScalingRun timeSteps(const std::function<void()>& step, double dt, double second
   return run;
 }
 
+/// The run of median wall time (the lower one of the middle two for an even count).
+ScalingRun medianRun(std::vector<ScalingRun> tries) {
+  std::sort(tries.begin(), tries.end(), [](const ScalingRun& a, const ScalingRun& b) { return a.wall < b.wall; });
+  return tries[(tries.size() - 1) / 2];
+}
+
 struct Config {
   const char* name;
   SdfccdContactMode mode;
@@ -109,16 +115,20 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
       throw Error("--scaling-bodies: each pile size must be in 1..5000 (got " + std::to_string(n) + ")");
   }
   const double seconds = o.quick ? 0.1 : 1.5;
+  if (o.repeat < 1 || o.repeat > 100) throw Error("--repeat: must be in 1..100 (got " + std::to_string(o.repeat) + ")");
   const Config configs[] = {{"penalty 1 ms, 1 thread", SdfccdContactMode::Penalty, kScalingPenaltyStep, 1},
                             {"penalty 1 ms, 2 threads", SdfccdContactMode::Penalty, kScalingPenaltyStep, 2},
                             {"solver 1/240 s, 1 thread", SdfccdContactMode::Solver, kScalingSolverStep, 1},
                             {"solver 1/240 s, 2 threads", SdfccdContactMode::Solver, kScalingSolverStep, 2}};
   std::printf(
       "\nScaling (issue 17): bunnies (777 points, 128^3 fields) dropped into a pile, %.2f s simulated; contact "
-      "defaults of a new world; %u hardware threads; load average before: %s\n"
+      "defaults of a new world; %u hardware threads; %s; load average before: %s\n"
       "  wall and thread CPU of the steps; process CPU counts every thread (the pool's too). Other engineers share "
       "this machine: times are under load unless the load average says otherwise.\n",
-      seconds, std::thread::hardware_concurrency(), loadAverage().c_str());
+      seconds, std::thread::hardware_concurrency(),
+      o.repeat > 1 ? ("each row the median of " + std::to_string(o.repeat) + " runs, taken in turns").c_str()
+                   : "one run per row",
+      loadAverage().c_str());
   std::printf("  %-28s %6s %7s %9s %9s %9s %11s %8s %8s %7s\n", "world", "bodies", "steps", "wall ms", "thread ms",
               "proc ms", "ms/body/st", "ccd/st", "x real", "batch%");
   std::fflush(stdout);
@@ -136,26 +146,34 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
   for (std::size_t k = 0; k < counts.size(); ++k) {
     const Scene pile = pileScene(shipped, counts[k]);
     std::vector<std::shared_ptr<const BodyModel>> models;
-    for (std::size_t c = 0; c < std::size(configs); ++c) {
-      Scene scene = pile;
-      scene.contact = SceneContact{};
-      scene.contact.mode = configs[c].mode;
-      scene.timestep = configs[c].dt;
-      SceneWorldSettings settings;
-      settings.cacheDir = o.cache;
-      settings.narrowphaseThreads = configs[c].threads;
-      SceneWorld world(scene, settings);
-      if (models.empty()) {
-        for (int i = 0; i < world.bodyCount(); ++i) models.push_back(world.modelPtr(i));
+    // Every world `repeat` times, in turns; each row is then the run of median wall time.
+    std::vector<std::vector<ScalingRun>> tries(std::size(configs) + 1);
+    for (int r = 0; r < o.repeat; ++r) {
+      for (std::size_t c = 0; c < std::size(configs); ++c) {
+        Scene scene = pile;
+        scene.contact = SceneContact{};
+        scene.contact.mode = configs[c].mode;
+        scene.timestep = configs[c].dt;
+        SceneWorldSettings settings;
+        settings.cacheDir = o.cache;
+        settings.narrowphaseThreads = configs[c].threads;
+        SceneWorld world(scene, settings);
+        if (models.empty()) {
+          for (int i = 0; i < world.bodyCount(); ++i) models.push_back(world.modelPtr(i));
+        }
+        const SdfccdContactStatistics& stats = world.contacts().statistics();
+        const double batch0 = stats.parallelWallSeconds;
+        ScalingRun run = timeSteps([&world] { world.step(); }, configs[c].dt, seconds,
+                                   [&stats] { return double(stats.ccdQueries); });
+        run.batch = stats.parallelWallSeconds - batch0;
+        tries[c].push_back(run);
       }
-      const SdfccdContactStatistics& stats = world.contacts().statistics();
-      const double batch0 = stats.parallelWallSeconds;
-      runs[c][k] =
-          timeSteps([&world] { world.step(); }, configs[c].dt, seconds, [&stats] { return double(stats.ccdQueries); });
-      runs[c][k].batch = stats.parallelWallSeconds - batch0;
+      GImpactPeer hulls(pile, models, PeerShape::ConvexHull, kScalingSolverStep);
+      tries.back().push_back(timeSteps([&hulls] { hulls.step(); }, kScalingSolverStep, seconds, [] { return 0.0; }));
+      if (o.repeat > 1) std::fprintf(stderr, "scaling: %d bunnies, round %d of %d done\n", counts[k], r + 1, o.repeat);
     }
-    GImpactPeer hulls(pile, models, PeerShape::ConvexHull, kScalingSolverStep);
-    runs.back()[k] = timeSteps([&hulls] { hulls.step(); }, kScalingSolverStep, seconds, [] { return 0.0; });
+    for (std::size_t c = 0; c < tries.size(); ++c) runs[c][k] = medianRun(tries[c]);
+    csv("scaling", std::to_string(counts[k]) + " bunnies", "runs_per_row", o.repeat);
     for (std::size_t c = 0; c <= std::size(configs); ++c) {
       const ScalingRun& r = runs[c][k];
       const char* name = c < std::size(configs) ? configs[c].name : "convex hulls 1/240 s (Bullet)";

@@ -15,7 +15,8 @@
 /// issue's targets are printed beside ours: 80 bunnies at
 /// >= 0.5x real time in penalty mode, >= 1x in solver mode, speedup >= 1.8x on 2 cores (on an idle machine; the
 /// load average is printed with the results). A CSV (rows of the bench's CSV) and a PNG plot of step time per
-/// body against bodies.
+/// body against bodies. With `repeat` > 1 every world runs that many times, the worlds of a pile size in turns (so
+/// that a slow spell of the shared machine falls on all of them), and each row is the run of median wall time.
 #pragma once
 
 #if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin
@@ -31,6 +32,7 @@ struct ScalingBenchOptions {
   std::string cache;                       ///< body model cache ("": none)
   std::vector<int> bodies;                 ///< the pile sizes (empty: 20, 80, 320; --quick: 4, 12)
   std::string plot = "bench_scaling.png";  ///< the PNG ("": none)
+  int repeat = 1;  ///< runs of each world, taken in turns; each row is the run of median wall time
 };
 
 /// Receives one CSV row (part, item, key, value).

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 17: `sdfccd simulate --threads N` gives the same motion for every N (the parallel narrowphase hands its
 # results to Bullet in pair order); a bad value fails with one line; `bench bullet --part scaling --quick` writes its
-# rows (time per body, CCD queries, speedups) and its plot.
+# rows (time per body, CCD queries, speedups) and its plot, each row the median of --repeat runs.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 
@@ -40,7 +40,7 @@ for bad in -1 100000; do  # below 0, and more threads than a pool takes (the thr
 done
 
 "$tool" --help | grep -qE "^ +bench " || { echo "ok (bench command not built)"; exit 0; }
-"$tool" bench bullet --quick --part scaling --scaling-bodies 3 --scenes "$assets/scenes" --cache "$work/cache" \
+"$tool" bench bullet --quick --part scaling --scaling-bodies 3 --repeat 2 --scenes "$assets/scenes" --cache "$work/cache" \
   --out "$work/s.csv" --scaling-plot "$work/s.png" > "$work/bench.txt" 2> "$work/bench_err.txt" ||
   fail "bench failed: $(cat "$work/bench_err.txt")"
 for key in wall_ms_per_step_and_body ccd_queries_per_step real_time_factor thread_cpu_seconds batch_share_of_wall; do
@@ -51,4 +51,10 @@ grep -q "^scaling,speedup / 3,penalty," "$work/s.csv" || fail "no speedup row"
 grep -q "load average" "$work/bench.txt" || fail "the bench does not report the machine's load"
 [ -s "$work/s.png" ] || grep -q "no plot" "$work/bench.txt" || fail "no plot and no reason"
 "$tool" bench bullet --part scaling --scaling-bodies 0 --out "" > /dev/null 2>&1 && fail "--scaling-bodies 0 accepted"
+# --repeat: every world twice, in turns, each row the median run; progress on stderr; 0 is refused in one line.
+grep -q "median of 2 runs" "$work/bench.txt" || fail "the bench does not say its rows are medians of 2 runs"
+grep -q "^scaling,3 bunnies,runs_per_row,2$" "$work/s.csv" || fail "scaling CSV lacks runs_per_row"
+grep -q "round 2 of 2" "$work/bench_err.txt" || fail "no progress of the repeats on stderr"
+out=$("$tool" bench bullet --part scaling --repeat 0 --out "" 2>&1) && fail "--repeat 0 accepted"
+[ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q -- "--repeat" || fail "bad --repeat: $out"
 echo "ok"
