@@ -2,8 +2,8 @@
 /// @brief NarrowphasePool (see narrowphase_pool.h).
 #include "narrowphase_pool.h"
 
+#include <cassert>
 #include <chrono>
-#include <stdexcept>
 
 namespace sdfccd::detail {
 
@@ -158,8 +158,8 @@ void NarrowphasePool::publish(std::size_t count) {
 void NarrowphasePool::close(std::size_t total) {
   const std::function<void(std::size_t)>* task = m_task;
   // Both ends of the claims share a 64-bit word (m_claims): a batch holds fewer than 2^32 - 1 tasks (a step's has
-  // two per pair).
-  if (total >= kOpen) throw std::length_error("NarrowphasePool: a batch of 2^32 - 1 tasks or more");
+  // two per pair, and Bullet counts its pairs in an int: at most 2^32 - 2).
+  assert(total < kOpen);
   if (m_workers.empty()) {
     for (std::size_t i = 0; i < total; ++i) (*task)(i);
     m_task = nullptr;

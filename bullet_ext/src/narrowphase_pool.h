@@ -13,7 +13,8 @@
 /// output (results are then bit-identical for any thread count). One batch at a time (run() is not reentrant).
 /// A batch may also be streamed (begin, publish, close): the workers start on the first tasks while the caller
 /// still prepares the next ones (the step's planning pass, serial, overlaps the CCD of the pairs planned so far).
-/// The workers claim tasks from the front, the caller (when it closes the batch) from the back.
+/// The workers claim tasks from the front, the caller (when it closes the batch) from the back. A batch holds
+/// fewer than 2^32 - 1 tasks (both ends share one 64-bit atomic).
 #pragma once
 
 #include <atomic>

@@ -443,29 +443,29 @@ const Rigid* SdfccdContactSystem::lastingFrame(const Rigid& frame, const Rigid* 
 
 void SdfccdContactSystem::applyPenaltyRole(const detail::RoleResult& result, btManifoldResult* resultOut,
                                            bool closestPointsOnly) {
-  const detail::RoleResult::PenaltySummary& query = result.penalty;
+  const detail::RoleResult::PenaltySummary& summary = result.penalty;  // the query stayed on its thread
   m_stats.shadowLinearSeconds += result.shadowSeconds;
-  m_stats.ccdSeconds += query.ccdSeconds;
+  m_stats.ccdSeconds += summary.ccdSeconds;
   if (result.ground) {
-    m_stats.groundCcdSeconds += query.ccdSeconds;
+    m_stats.groundCcdSeconds += summary.ccdSeconds;
     ++m_stats.groundCcdQueries;
   }
-  if (query.coefficients.stiffnessCapped) ++m_stats.softenedPairs;
+  if (summary.coefficients.stiffnessCapped) ++m_stats.softenedPairs;
   ++m_stats.ccdQueries;
-  m_stats.segmentQueries += query.segmentQueries;
-  if (!query.touched) return;
+  m_stats.segmentQueries += summary.segmentQueries;
+  if (!summary.touched) return;
   for (const detail::RoleResult::ManifoldPoint& p : result.manifoldPoints) {
     resultOut->addContactPoint(toBt(p.normal), toBt(p.point), btScalar(p.depth));
   }
   if (closestPointsOnly || !result.hasRecord) return;
   m_records.push_back(result.record);  // one copy, into its place
   Record& record = m_records.back();
-  m_stats.penaltySeconds += query.penaltySeconds;
+  m_stats.penaltySeconds += summary.penaltySeconds;
   m_stats.penaltySamples += record.penalty.samples;
   m_stats.dampingEvaluations += record.penalty.dampingEvaluations;
   m_stats.torqueEvaluations += record.penalty.torqueEvaluations;
   m_stats.frictionEvaluations += record.penalty.frictionEvaluations;
-  addContactLoad(record, result.roleScale, query.coefficients);
+  addContactLoad(record, result.roleScale, summary.coefficients);
   // A kinematic pair keeps its penalty impulses (it is never rewound).
   if (m_settings.forceTiming == ForceTiming::SameStep &&
       (!record.clamp || record.action == ClampAction::KinematicPush)) {

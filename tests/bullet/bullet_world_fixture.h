@@ -5,6 +5,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,26 @@
 #include "sdfccd/bullet/sdfccd_contact_system.h"
 
 namespace sdfccd::test {
+
+/// A user's concave shape we know nothing about: of type `shapeType`, named `name` (owned: any text at any
+/// address), a box of half-width 1 around its origin, no triangles.
+class UserConcaveShape : public btConcaveShape {
+ public:
+  UserConcaveShape(int shapeType, std::string name) : m_name(std::move(name)) { m_shapeType = shapeType; }
+  void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override {
+    aabbMin = t.getOrigin() - btVector3(1, 1, 1);
+    aabbMax = t.getOrigin() + btVector3(1, 1, 1);
+  }
+  void processAllTriangles(btTriangleCallback*, const btVector3&, const btVector3&) const override {}
+  void setLocalScaling(const btVector3& scaling) override { m_scaling = scaling; }
+  const btVector3& getLocalScaling() const override { return m_scaling; }
+  void calculateLocalInertia(btScalar, btVector3& inertia) const override { inertia.setValue(0, 0, 0); }
+  const char* getName() const override { return m_name.c_str(); }
+
+ private:
+  std::string m_name;
+  btVector3 m_scaling{1, 1, 1};
+};
 
 struct BulletTestWorld {
   btDefaultCollisionConfiguration configuration;

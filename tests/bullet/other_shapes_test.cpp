@@ -357,28 +357,15 @@ INSTANTIATE_TEST_SUITE_P(BothModes, OtherShapes,
                          });
 
 /// A user's concave shape we know nothing about (a type id no Bullet shape of ours uses).
-class UserConcaveShape : public btConcaveShape {
- public:
-  UserConcaveShape() { m_shapeType = FAST_CONCAVE_MESH_PROXYTYPE; }
-  void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override {
-    aabbMin = t.getOrigin() - btVector3(1, 1, 1);
-    aabbMax = t.getOrigin() + btVector3(1, 1, 1);
-  }
-  void processAllTriangles(btTriangleCallback*, const btVector3&, const btVector3&) const override {}
-  void setLocalScaling(const btVector3& scaling) override { m_scaling = scaling; }
-  const btVector3& getLocalScaling() const override { return m_scaling; }
-  void calculateLocalInertia(btScalar, btVector3& inertia) const override { inertia.setValue(0, 0, 0); }
-  const char* getName() const override { return "UserConcaveShape"; }
-
- private:
-  btVector3 m_scaling{1, 1, 1};
-};
+std::unique_ptr<btCollisionShape> userConcaveShape() {
+  return std::make_unique<test::UserConcaveShape>(FAST_CONCAVE_MESH_PROXYTYPE, "UserConcaveShape");
+}
 
 // The pair is announced once per type pair (two such shapes, many steps) and every call is counted.
 TEST(OtherShapesUnsupported, AnnouncedOnceAndCounted) {
   ShapesWorld w(SdfccdContactMode::Solver);
-  w.add(std::make_unique<UserConcaveShape>(), 0.0, Vec3(0, 0, 0));
-  w.add(std::make_unique<UserConcaveShape>(), 0.0, Vec3(0.5, 0, 0));
+  w.add(userConcaveShape(), 0.0, Vec3(0, 0, 0));
+  w.add(userConcaveShape(), 0.0, Vec3(0.5, 0, 0));
   w.add(std::make_unique<SdfccdShape>(smallBox()), 1.0, Vec3(0.2, 0.3, 0));
   w.run(10);
   ASSERT_EQ(w.log.size(), 1u);

@@ -74,27 +74,6 @@ TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
   EXPECT_FALSE(isSdfccdShape(&box));
 }
 
-/// A user's shape of our type id (btSdfCollisionShape's too) whose name is whatever it is given.
-class NamedCustomConcaveShape : public btConcaveShape {
- public:
-  explicit NamedCustomConcaveShape(std::string name) : m_name(std::move(name)) {
-    m_shapeType = CUSTOM_CONCAVE_SHAPE_TYPE;
-  }
-  void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override {
-    aabbMin = t.getOrigin() - btVector3(1, 1, 1);
-    aabbMax = t.getOrigin() + btVector3(1, 1, 1);
-  }
-  void processAllTriangles(btTriangleCallback*, const btVector3&, const btVector3&) const override {}
-  void setLocalScaling(const btVector3& scaling) override { m_scaling = scaling; }
-  const btVector3& getLocalScaling() const override { return m_scaling; }
-  void calculateLocalInertia(btScalar, btVector3& inertia) const override { inertia.setValue(0, 0, 0); }
-  const char* getName() const override { return m_name.c_str(); }
-
- private:
-  std::string m_name;
-  btVector3 m_scaling{1, 1, 1};
-};
-
 // isSdfccdShape knows our shape by its name's address first, then by its characters: a shape of our type id is
 // ours exactly when its name reads "SdfccdShape", wherever that text is stored.
 TEST(Registration, OurShapeIsKnownByTypeAndNameWhereverTheNameLives) {
@@ -102,12 +81,13 @@ TEST(Registration, OurShapeIsKnownByTypeAndNameWhereverTheNameLives) {
   EXPECT_STREQ(ours.getName(), "SdfccdShape");
   SdfccdShape other(smallSphereModel());
   EXPECT_EQ(ours.getName(), other.getName());  // one address for every instance (the fast path)
-  const NamedCustomConcaveShape copyOfOurName(std::string("Sdfccd") + "Shape");  // same text, other address
+  const test::UserConcaveShape copyOfOurName(CUSTOM_CONCAVE_SHAPE_TYPE,
+                                             std::string("Sdfccd") + "Shape");  // same text, other address
   ASSERT_NE(copyOfOurName.getName(), ours.getName());
   EXPECT_TRUE(isSdfccdShape(&copyOfOurName));
   EXPECT_FALSE(isSdfccdShape(static_cast<const btCollisionShape*>(nullptr)));
   for (const char* name : {"SdfccdShap", "SdfccdShape ", "sdfccdShape", "SDF", ""}) {
-    const NamedCustomConcaveShape user(name);
+    const test::UserConcaveShape user(CUSTOM_CONCAVE_SHAPE_TYPE, name);
     EXPECT_FALSE(isSdfccdShape(&user)) << '"' << name << '"';
   }
 }
