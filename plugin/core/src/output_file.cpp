@@ -28,8 +28,13 @@ std::string systemError(int error) {
   return std::strerror(error);
 }
 
+}  // namespace
+
+namespace detail {
+
 /// A streambuf over a file descriptor: std::ofstream cannot open with O_EXCL | O_NOFOLLOW. Writes retry
-/// on EINTR and short writes; the first failure is kept (errno) and fails every later write.
+/// on EINTR and short writes; the first failure is kept (errno) and fails every later write. In a named
+/// namespace (not the file's anonymous one): OutputFile::State, a member of a public class, holds one.
 class FdStreamBuf : public std::streambuf {
  public:
   void attach(int fd) {
@@ -85,6 +90,10 @@ class FdStreamBuf : public std::streambuf {
   int m_error = 0;
   std::array<char, 1 << 16> m_buffer{};
 };
+
+}  // namespace detail
+
+namespace {
 
 /// The folder part of a path ("." for a bare name).
 std::string folderOf(const std::string& path) {
@@ -213,7 +222,7 @@ struct OutputFile::State {
   bool ownsFd = true;  // false for standard output
   int slot = -1;
   bool finished = false;
-  FdStreamBuf buffer;
+  detail::FdStreamBuf buffer;
   std::ostream stream{&buffer};
 
   /// Closes and removes the temporary file (idempotent).
