@@ -58,6 +58,11 @@ SDFCCD_FORCE_INLINE Vec3 clampToBox(const Vec3& p, const Box3& box) {
               std::min(std::max(p.z(), box.min().z()), box.max().z()));
 }
 
+/// Distance from `p` to the box (0 inside): |clampToBox(p) - p|.
+SDFCCD_FORCE_INLINE double distanceToBox(const Vec3& p, const Box3& box) {
+  return (clampToBox(p, box) - p).norm();
+}
+
 }  // namespace scalar_ops
 }  // namespace detail
 }  // namespace sdfccd

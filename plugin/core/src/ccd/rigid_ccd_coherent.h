@@ -30,12 +30,6 @@ constexpr std::uint64_t kAscentPeriod = 8;
 /// the first request, kept while a history holds them (rigid_ccd.cpp; thread safe).
 std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree);
 
-/// Distance from `p` to the box (0 inside).
-inline double distanceToBox(const Vec3& p, const Box3& box) {
-  const Vec3 nearest = detail::scalar_ops::clampToBox(p, box);
-  return (nearest - p).norm();
-}
-
 /// ||R_a - R_b||_F, in plain scalar code: Eigen's reduction over the blocks of the 4x4 matrices was not inlined and
 /// was most of the whole-front test's cost in a pile of bodies (a bound with the certificates' slack: its rounding
 /// need not match any other evaluation).
@@ -290,7 +284,7 @@ class CoherentQuery {
     const Vec3 c1 = m_query.endOf(m_tree.center(node));
     if (m_bounds.bounded && !detail::scalar_ops::boxContains(m_bounds.box, c1)) {
       e.kind = RigidCcdCoherence::Kind::Box;
-      e.clearance = distanceToBox(c1, m_bounds.box);
+      e.clearance = detail::scalar_ops::distanceToBox(c1, m_bounds.box);
     } else {
       e.kind = RigidCcdCoherence::Kind::Phi;
       e.clearance = m_field.distance(c1);

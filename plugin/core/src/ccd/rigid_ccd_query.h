@@ -276,8 +276,9 @@ class RigidCcdQuery {
           m_bounds.lipschitz * rho * tolerance::kBoundGrowth + fieldJumpNear(m_field, m_bounds, c0, c0, rho);
       if (m_bounds.bounded && !detail::scalar_ops::boxContains(m_bounds.box, c0)) {
         // Points below lie within rho of c0; inside the box phi >= boundaryMin - L rho there.
-        const Vec3 nearest = detail::scalar_ops::clampToBox(c0, m_bounds.box);
-        if ((nearest - c0).norm() > rho || m_bounds.boundaryMin - reach > m_settings.sigma) continue;
+        if (detail::scalar_ops::distanceToBox(c0, m_bounds.box) > rho ||
+            m_bounds.boundaryMin - reach > m_settings.sigma)
+          continue;
       } else if (m_field.distance(c0) - reach > m_settings.sigma) {
         continue;
       }
