@@ -20,6 +20,7 @@ case "$mode" in
     ;;
 esac
 bash scripts/install-deps.sh
+source scripts/configure-release.sh
 jobs=$(nproc)
 
 # Every build uses Ninja: unlike the Makefiles (which finish a target, link included, before compiling anything of
@@ -137,12 +138,9 @@ wait_standalone_check() {
 
 release_stages() {
   stage "build (Release)"
-  # The OpenVDB peer of `sdfccd bench segments` is left out: no test runs it (only a run of every method and octree
-  # mode does, and the tests' bench runs name one), and `bash scripts/main-job.sh` builds it.
-  # Unity builds (batches of 8 files) for the libraries too: template instantiation (Eigen) is most of a file's
-  # compile, and a batch instantiates once what its files share: the stage's CPU 624 s -> 472 s. The standalone check
-  # above keeps the guarantee the one-file-per-unit build gave.
-  configure build -DCMAKE_BUILD_TYPE=Release -DSDFCCD_WITH_OPENVDB=OFF -DCMAKE_UNITY_BUILD=ON
+  # The same folder and settings as the main job's (scripts/configure-release.sh): after it, only the suites compile.
+  # The standalone check above keeps the guarantee a one-file-per-unit build gives.
+  configure_release
   start_standalone_check
   cmake --build build -j"$jobs"
   stage "tests (Release)"
