@@ -9,7 +9,7 @@
 /// clamping, symplectic Euler in Bullet, both models treated alike. Every timestep of the grid is run for every
 /// model and timing (not only up to the first failure), so the energy gain is seen on both sides of the limit.
 ///
-/// The 1-DOF model (bullet_ext/contact_response_design.md section 5.1): a linear spring in sustained contact,
+/// The 1-DOF model (docs/design/penalty-stability.md, "Force timing"): a linear spring in sustained contact,
 /// h = omega dt, x_{n+1} - 2 x_n + x_{n-1} = -h^2 (the force's argument); the per-step amplification |z| is the
 /// larger root modulus of each characteristic polynomial. omega is not known for a pile of bunnies (it depends on
 /// how many points touch), so it is calibrated once from the measured limit of one model and timing (ours,
