@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The test command (README): installs dependencies, builds (Release) and runs every test suite; a clang
+# The test command (docs/testing.md): installs dependencies, builds (Release) and runs every test suite; a clang
 # -fsyntax-only pass over each library file alone, run on the cores the tests leave idle, fails a file that compiles
 # only beside its neighbours (the builds batch their files: unity builds).
 # CI (.ci/run) runs the test command, then this script's `sanitizers` stages: the core and its tests rebuilt with

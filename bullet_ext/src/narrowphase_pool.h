@@ -1,5 +1,5 @@
 /// @file
-/// @brief NarrowphasePool: the persistent worker pool of the parallel narrowphase (issue 17 item 1).
+/// @brief NarrowphasePool: the persistent worker pool of the parallel narrowphase (sdfccd_parallel_step.cpp).
 ///
 /// @details Threads started once (with the contact system's settings) and parked on a condition variable between
 /// steps, so a 1 ms step pays a wake-up, not a thread start (the core's parallel_for starts threads on every call:

@@ -1,5 +1,5 @@
 /// @file
-/// @brief Solver mode, one role of a pair (issue 13 design note, Section 3.1 items 2-3; beyond the paper): the CCD
+/// @brief Solver mode, one role of a pair (docs/design/contact-response.md, solver mode; beyond the paper): the CCD
 /// lists every shell point that reaches the speculative margin during the step, and each becomes a candidate
 /// manifold point at the step's start, with the field's normal and Bullet's sign (distance > 0 when separated).
 ///
@@ -30,7 +30,7 @@ namespace {
 
 /// The earliest fraction of the step at which a point's row is written (its lever arm turned on, its gap read):
 /// a point at the bottom of its arc near the step's start is read a little later, so that gap / t stays
-/// moderate (a rolling sphere measured 0.987 of 5/7 g sin theta with 0.25, 0.970 with 0.5).
+/// moderate (a rolling sphere reaches 0.987 of 5/7 g sin theta with 0.25, 0.970 with 0.5).
 constexpr double kEarliestRowFraction = 0.25;
 /// cos 75 degrees: a shell point counts when its outward normal is within 75 degrees of the contact's -n.
 constexpr double kGrazingCosine = 0.25881904510252074;

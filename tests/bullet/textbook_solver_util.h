@@ -121,7 +121,7 @@ inline std::vector<BoxSpec> column(int n, double mass = 1.0) {
 }
 
 inline void expectStands(const StandResult& r, const std::string& what) {
-  // Printed on success too: the README and the tests' comments quote these numbers.
+  // Printed on success too: the docs and the tests' comments quote these numbers.
   std::printf("  measured %s: largest centre motion %.4f mm after 1 s, end penetration %.3f cells, asleep %d\n",
               what.c_str(), 1e3 * r.maxMotion, r.endPenetrationCells, int(r.allAsleep));
   EXPECT_TRUE(r.finite) << what;
