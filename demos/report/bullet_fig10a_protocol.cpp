@@ -1,5 +1,5 @@
 /// @file
-/// @brief Report section `protocol`: paper Fig. 10a under the paper's protocol beside ours (issue 13 item 4) —
+/// @brief Report section `protocol`: paper Fig. 10a under the paper's protocol beside ours —
 /// the largest stable timestep of the continuous and the discrete penalty model with the penalty impulses applied
 /// over the *next* step (the paper, Section 4.1) and in the *same* step (ours), the energy each trial gained, and
 /// the one-degree-of-freedom prediction beside the measurement.
@@ -9,7 +9,7 @@
 /// clamping, symplectic Euler in Bullet, both models treated alike. Every timestep of the grid is run for every
 /// model and timing (not only up to the first failure), so the energy gain is seen on both sides of the limit.
 ///
-/// The 1-DOF model (bullet_ext/contact_response_design.md section 5.1): a linear spring in sustained contact,
+/// The 1-DOF model (docs/design/penalty-stability.md): a linear spring in sustained contact,
 /// h = omega dt, x_{n+1} - 2 x_n + x_{n-1} = -h^2 (the force's argument); the per-step amplification |z| is the
 /// larger root modulus of each characteristic polynomial. omega is not known for a pile of bunnies (it depends on
 /// how many points touch), so it is calibrated once from the measured limit of one model and timing (ours,
@@ -222,7 +222,8 @@ ReportSection runProtocol(const ReportContext& ctx) {
   md += "Every trial: `protocol_trials.csv`.\n";
 
   ReportSection section;
-  // The stated expectation (design note 5.3): under our timing the continuous model is at least as stable.
+  // The stated expectation (docs/design/penalty-stability.md): under our timing the continuous model is at least as
+  // stable.
   section.ok = largest[2] >= largest[3] && largest[3] > 0;
   section.markdown = md;
   return section;
