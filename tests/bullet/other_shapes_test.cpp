@@ -1,4 +1,4 @@
-// Every Bullet shape against ours (issue 15 item 1; bullet_shape_fields.h): cylinders, cones, convex hulls
+// Every Bullet shape against ours (bullet_shape_fields.h): cylinders, cones, convex hulls
 // (any btConvexShape through its support points), static triangle meshes and terrain, compounds of them, and
 // the announcement of a pair still unsupported. Answers are analytic: rest heights from the shapes' sizes
 // (Bullet's margin included), no tunnelling through a zero-thickness wall at 20 m/s.

@@ -1,7 +1,7 @@
 // Shared scenes of the solver-mode textbook suites (textbook_solver_test.cpp, textbook_solver_stack_test.cpp): boxes
-// described by geometry, mass, friction and restitution, a world whose ground passes the body's values through
-// Bullet's product rule, and the stand criterion of issue 13 (no centre moves more than 1 mm between t = 1 s and the
-// end, penetration under 1 cell at the end).
+// described by geometry, mass, friction and restitution, a world whose ground passes the body's values through Bullet's
+// product rule, and the stand criterion (no centre moves more than 1 mm between t = 1 s and the end, penetration under
+// 1 cell at the end).
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
