@@ -208,8 +208,8 @@ void computeSolverRole(const PointTree& tree, const Field& field, const SolverRo
     // A shell point whose own surface does not face the field (its outward normal more than 75 degrees from -n)
     // grazes it: a side face beside a face it rests on, or a face point past the other body's edge, where the
     // field's gradient turns sideways (radial about the edge, and tilted further by the grid's interpolation).
-    // Such points pushed stacked boxes sideways (a 10-box stack swayed and did not sleep); their neighbours on the
-    // facing side carry the contact. Edges and corners (averaged normals, 45 and 55 degrees off) stay.
+    // Such points would push stacked boxes sideways (a 10-box stack sways and does not sleep); their neighbours on
+    // the facing side carry the contact. Edges and corners (averaged normals, 45 and 55 degrees off) stay.
     const Vec3 shellNormal = in.worldFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
     if (shellNormal.dot(normalInWorld) > -kGrazingCosine) continue;
     const Vec3 offsetStart = in.worldFromShellStart * pointInShell - shellSweep.centre;

@@ -114,7 +114,7 @@ bool coherenceMatches(const RigidCcdCoherence& c, const PointTree& tree, const F
 /// The whole-front test: true when every front entry's certificate holds for the step [start, end], checked once
 /// against the newest kept pose r on the front's folded bound (RigidCcdCoherence::FrontBound) instead of entry by
 /// entry and pose by pose. An entry e at pose k moves at most rot_k reach(e) + trans_k, and by the triangle
-/// inequality rot_k <= rot_r + ||R_r - R_k||_F and trans_k <= trans_r + |t_r - t_k|; the fold took the second
+/// inequality rot_k <= rot_r + ||R_r - R_k||_F and trans_k <= trans_r + |t_r - t_k|; the fold takes the second
 /// terms off each entry's slack, so with maxReach >= reach(e) and minSlack <= room(e) / kBoundGrowth - radius(e) -
 /// (||R_r - R_k||_F reach(e) + |t_r - t_k|),
 ///   (rotation_r maxReach + translation_r) kBoundGrowth < minSlack
