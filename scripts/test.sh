@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The test command (docs/testing.md): installs dependencies, builds (Release) and runs every test suite; a clang
-# -fsyntax-only pass over each library file alone, run on the cores the tests leave idle, fails a file that compiles
-# only beside its neighbours (the builds batch their files: unity builds).
+# The test command (docs/testing.md): installs dependencies, checks the docs' rules (scripts/check-docs.sh), builds
+# (Release) and runs every test suite; a clang -fsyntax-only pass over each library file alone, run on the cores the
+# tests leave idle, fails a file that compiles only beside its neighbours (the builds batch their files: unity builds).
 # CI (.ci/run) runs the test command, then this script's `sanitizers` stages: the core and its tests rebuilt with
 # AddressSanitizer + UndefinedBehaviorSanitizer and run again, the threaded haptics and Bullet tests under
 # ThreadSanitizer, and the field, shell, scene, segment-file and haptic-scene readers fuzzed briefly (libFuzzer,
@@ -136,6 +136,10 @@ wait_standalone_check() {
 }
 
 release_stages() {
+  # First, before any build: the README's length and no issue or session numbers in code comments or the README
+  # (scripts/check-docs.sh; grep only).
+  stage "docs check (README length, issue and session references)"
+  bash scripts/check-docs.sh
   stage "build (Release)"
   # The OpenVDB peer of `sdfccd bench segments` is left out: no test runs it (only a run of every method and octree
   # mode does, and the tests' bench runs name one), and `bash scripts/main-job.sh` builds it.
