@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The test command (README): installs dependencies, builds (Release) and runs every test suite; a clang
-# -fsyntax-only pass over each library file alone, run on the cores the tests leave idle, fails a file that compiles
-# only beside its neighbours (the builds batch their files: unity builds).
+# The test command (docs/testing.md): installs dependencies, checks the docs' rules (scripts/check-docs.sh), builds
+# (Release) and runs every test suite; a clang -fsyntax-only pass over each library file alone, run on the cores the
+# tests leave idle, fails a file that compiles only beside its neighbours (the builds batch their files: unity builds).
 # CI (.ci/run) runs the test command, then this script's `sanitizers` stages: the core and its tests rebuilt with
 # AddressSanitizer + UndefinedBehaviorSanitizer and run again, the threaded haptics and Bullet tests under
 # ThreadSanitizer, and the field, shell, scene, segment-file and haptic-scene readers fuzzed briefly (libFuzzer,
-# clang). The test command is what a user runs after a change (7 minutes on an idle 2-core machine); the sanitizer
-# stages double the whole and run in CI, which has 90 minutes.
+# clang). The test command is what a user runs after a change (its times: docs/testing.md); the sanitizer stages,
+# which take longer than the rest together, run in CI.
 # Usage (as root, from the repository root): bash scripts/test.sh [sanitizers | fuzz]
 #   (no argument: the test command; sanitizers: ASan+UBSan, TSan and fuzz stages; fuzz: the libFuzzer stage alone)
 set -euo pipefail
@@ -25,7 +25,7 @@ jobs=$(nproc)
 
 # Every build uses Ninja: unlike the Makefiles (which finish a target, link included, before compiling anything of
 # the targets that link it) it compiles a suite's units while the libraries it links are still being built, so a
-# core does not idle through a library's last unit (the haptics library's take 40-50 s each under the sanitizers).
+# core does not idle through a library's last unit (the haptics library's are the longest under the sanitizers).
 # A build folder configured with another generator before is configured afresh (CMake cannot switch in place).
 configure() {
   local dir=$1
@@ -113,7 +113,7 @@ fi
 # its neighbours (a missing #include, a helper of another file) must still fail the command. It runs in the
 # background at the idle scheduling class (chrt --idle: only on a core the others leave idle: the build's links and
 # last units, ctest's tail) from the Release build on, and is waited for after the tests (its stage line counts its
-# CPU time: 160-180 s; started with the tests instead, its tail after them was 77 s).
+# CPU time; started with the tests instead, its tail would run alone after them).
 # Clang because its -fsyntax-only costs half of GCC's (template instantiation is most of it; no code is generated).
 alone_pid=
 start_standalone_check() {
@@ -137,6 +137,10 @@ wait_standalone_check() {
 }
 
 release_stages() {
+  # First, before any build: the README's length and no issue or session numbers in code comments or the README
+  # (scripts/check-docs.sh; grep only).
+  stage "docs check (README length, issue and session references)"
+  bash scripts/check-docs.sh
   stage "build (Release)"
   # The same folder and settings as the main job's (scripts/configure-release.sh): after it, only the suites compile.
   # The standalone check above keeps the guarantee a one-file-per-unit build gives.
@@ -153,17 +157,17 @@ sanitizer_stages() {
   # Sanitizer builds: -O1 -g1 (line tables: reports keep file:line) instead of RelWithDebInfo's -O2 -g, whose full
   # debug info and -O2 make compiling and linking these builds slow (the usual advice for ASan/TSan is -O1 anyway).
   # Unity builds (batches of 8 files) for the libraries too in the sanitizer and fuzz builds (the suites and the tool
-  # always are): the fuzz build's CPU time 281 s -> 190 s. The test command's Release build batches them too; its
+  # always are): a batch instantiates once what its files share. The test command's Release build batches them too; its
   # standalone check (clang -fsyntax-only of each library file, one file per unit as a user's build has them) fails a
   # file that compiles only beside its neighbours.
   sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_UNITY_BUILD=ON)
   # The bench and report commands (demo code that drives the library at length) are left out: the library
   # code they call runs under the sanitizers in the suites; the test command's Release run covers the commands.
   # UBSan's alignment and null checks are left out of this GCC build: GCC instruments every pointer use in the inlined
-  # Eigen and Bullet code with them, which doubled the compile (bullet_ext's contact system 26 s -> 13 s per file,
-  # haptics' penalty renderer 42 s -> 19 s, -O1 -g1 on the CI machine). AddressSanitizer still reports every null
-  # dereference (SEGV at address 0, with its stack); a misaligned load does not fault on x86-64, and C++17's aligned
-  # new gives Eigen's fixed-size members their alignment. The clang fuzz stage below keeps both checks on the readers.
+  # Eigen and Bullet code with them, which about doubles the compile of the files that inline most (bullet_ext's contact
+  # system, haptics' penalty renderer). AddressSanitizer still reports every null dereference (SEGV at address 0, with
+  # its stack); a misaligned load does not fault on x86-64, and C++17's aligned new gives Eigen's fixed-size members
+  # their alignment. The clang fuzz stage below keeps both checks on the readers.
   configure build-asan "${sanitizer_flags[@]}" -DSDFCCD_SANITIZE=address,undefined -DSDFCCD_SANITIZE_SKIP=alignment,null \
     -DSDFCCD_BUILD_RENDER=OFF -DSDFCCD_BUILD_BENCHMARKS=OFF
   cmake --build build-asan -j"$jobs"
@@ -174,7 +178,7 @@ sanitizer_stages() {
   # Long runs of code that shorter cases already drive under the sanitizers are left to the Release run too: the
   # golden hash (600 frames of 20 bunnies), the 100,000-step resting box, the haptic sessions that run seconds of
   # the peg and the alpha puzzle, the cached alpha-puzzle field, and 20,000 random rays against the bunny's field and
-  # its triangles (each 10-30 s under ASan; the shorter ray and sweep cases run here).
+  # its triangles (the slowest cases under ASan; the shorter ray and sweep cases run here).
   textbook='Textbook[A-Za-z]*\.|Incline\.'
   long_runs='GoldenHash\.|ShapeQueries\.RandomRaysMatchTheTriangles|Stability\.RestingBoxGainsNoEnergy|HapticSession\.(ShrunkHole|PegGoesInto|Fig13Pocket)|AlphaPuzzleScene\.FieldIsCached'
   # ... and the golden drop on 1, 2 and 4 threads, the Fig. 7 peg sessions, the solved alpha puzzle's sessions and the
@@ -183,7 +187,7 @@ sanitizer_stages() {
   # ... and the 6,000-point peg slides that compare the per-axis certificates with the fresh query for seconds (the
   # certificates' own random-grid and ridged-wall cases run here).
   long_runs+='|PenaltyRendererAxisCertificates\.PegSlide|GodObjectAxisCertificates\.PegSlide'
-  # ... and solver mode's drop compared on 1 and 2 threads (20 s under ASan): the TSan stage runs it on the pool, and the
+  # ... and solver mode's drop compared on 1 and 2 threads: the TSan stage runs it on the pool, and the
   # solver's short textbook cases (the second run below) and the other shapes' solver-mode cases run its code under ASan.
   long_runs+='|ParallelNarrowphase\.SolverDropIdenticalFor1And2Threads'
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
@@ -195,29 +199,28 @@ sanitizer_stages() {
   # The haptics module runs a 1 kHz device thread beside a simulation thread, and the Bullet plugin runs a step's
   # CCD on a pool of threads: both must be TSan clean.
   # One small suite, tsan_tests (tests/CMakeLists.txt): the haptics and Bullet test files whose tests start threads,
-  # not the whole haptics and Bullet suites (their single-threaded QP, friction and coupling files took 130 of the
-  # stage's 310 s of compile CPU and ran no thread).
+  # not the whole haptics and Bullet suites (their single-threaded QP, friction and coupling files are much of the
+  # compile and run no thread).
   configure build-tsan "${sanitizer_flags[@]}" -DSDFCCD_SANITIZE=thread \
     -DSDFCCD_BUILD_RENDER=OFF -DSDFCCD_BUILD_TOOLS=OFF -DSDFCCD_BUILD_BENCHMARKS=OFF
   cmake --build build-tsan -j"$jobs" --target tsan_tests
   stage "tests (thread sanitizer)"
   # The threads are the device loop, the simulation loop beside it and the SDF builder's workers: every haptics
   # test that runs them, not the single-threaded sessions that only run longer (the alpha puzzle, the clearance
-  # cache's bit-identity runs, the peg, Fig. 13, 10 s of god-object pushing on a stiff plane: 10-35 s each under TSan,
-  # all in the Release and ASan runs).
+  # cache's bit-identity runs, the peg, Fig. 13, 10 s of god-object pushing on a stiff plane: slow under TSan, all in
+  # the Release and ASan runs).
   single_threaded_long='AlphaPuzzleScene\.|GodObjectClearanceCache\.|HapticSession\.(ShrunkHole|PegGoesInto|Fig13Pocket)|PassivityController\.ConstraintSession'
   # ... and the sessions of the paper's scenes (the solved alpha puzzle, the Fig. 7 peg, the landing gear, Fig. 13),
-  # single-threaded too (100 s together under TSan).
+  # single-threaded too.
   single_threaded_long+='|AlphaPuzzleSolved\.|HapticPegFig7\.|LandingGear\.|Fig13NarrowPassage\.|PenaltyRendererCoherence\.'
   single_threaded_long+='|FrictionQp\.|GodObjectFriction\.'  # the friction solver's random problems: no threads
   # The Bullet file's tests: the narrowphase pool, the deferred queries and the shape cache they read, and a pile in
-  # penalty mode that runs on the pool and goes to sleep, and solver mode's drop on 1 and 2 threads (10 s under TSan
-  # since the streamed batch; the golden drop on 1-4 threads runs in the Release run). One ctest run for both files:
-  # -j2 packs their tests together.
+  # penalty mode that runs on the pool and goes to sleep, and solver mode's drop on 1 and 2 threads (the golden drop
+  # on 1-4 threads runs in the Release run). One ctest run for both files: -j2 packs their tests together.
   # That drop reads the bunny's field and shell from the suites' model cache (textbook-model-cache, keyed by the
   # mesh and settings): when the Release tests of the same checkout built them (CI runs the test command first), the
-  # entries are copied, bit for bit what this build would write; building the 128^3 field under TSan took 40 of the
-  # stage's 58 s. The haptic tests here still run the SDF builder's workers (their procedural scenes' fields).
+  # entries are copied, bit for bit what this build would write; building the 128^3 field under TSan would be most of
+  # the stage. The haptic tests here still run the SDF builder's workers (their procedural scenes' fields).
   if [ -d build/tests/textbook-model-cache ]; then
     mkdir -p build-tsan/tests
     cp -rn build/tests/textbook-model-cache build-tsan/tests/

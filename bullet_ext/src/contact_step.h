@@ -52,8 +52,8 @@ struct SdfccdContactSystem::BodyStep {
 
   bool finiteState = true;  // finite(), taken once when the step is made (the poses and velocities do not change)
 
-  /// The poses' and velocities' entries all finite (Eigen's allFinite(), the same answer, was out of line and ran
-  /// for both bodies of every pair).
+  /// The poses' and velocities' entries all finite (Eigen's allFinite(), the same answer, in scalar code that
+  /// inlines: it runs for both bodies of every pair).
   bool finite() const {
     return finiteValues(worldFromBodyStart.data(), 16) && finiteValues(worldFromBodyEnd.data(), 16) &&
            finiteValues(velocity.linearStart.data(), 3) && finiteValues(velocity.linearEnd.data(), 3) &&
@@ -108,7 +108,7 @@ struct SdfccdContactSystem::Role {
   bool deferrable = false;                   // our shell against our field or a plane: may run in the batch
 };
 
-/// The friction anchors of one pair and role, kept across steps (design 2.4), keyed by the pair's manifold.
+/// The friction anchors of one pair and role, kept across steps (friction_anchor.h), keyed by the pair's manifold.
 struct SdfccdContactSystem::AnchorSlot {
   // The stepping thread's bookkeeping (anchorSlot(), every step while planning)...
   const btCollisionObject* shellObject = nullptr;  // a reused manifold with other objects starts afresh

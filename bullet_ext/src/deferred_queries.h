@@ -1,6 +1,6 @@
 /// @file
 /// @brief DeferredQueries: one step's CCD queries, planned serially, computed together on the pool, consumed
-/// serially in Bullet's pair order (issue 17 item 1; see sdfccd_parallel_step.cpp for the why).
+/// serially in Bullet's pair order (see sdfccd_parallel_step.cpp for the why).
 ///
 /// @details A query is keyed by (the pair's manifold, the role's index in the pair): both are stable through a
 /// step, and one algorithm processes its pair once per step. A query's closure holds copies of everything it

@@ -1,6 +1,7 @@
 /// @file
-/// @brief Motion prediction (issue 13 design note, 1.6, 1.7, 2.5, 2.8, 2.9): each collision object's rigid-body
-/// motion over the step, and each wrapper's child frame in its body. Private to sdfccd::bullet.
+/// @brief Motion prediction (docs/design/contact-response.md: kinematic bodies, compound children, sleeping): each
+/// collision object's rigid-body motion over the step, and each wrapper's child frame in its body. Private to
+/// sdfccd::bullet.
 ///
 /// @details The body motion is keyed by collision object (one per body and step), in the rigid body's
 /// centre-of-mass frame (Bullet's world transform of a btRigidBody). A compound's children reach the narrowphase

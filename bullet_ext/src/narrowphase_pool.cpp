@@ -38,8 +38,8 @@ void NarrowphasePool::stopWorkers() {
 
 namespace {
 /// How long a thread that finds no published task spins before it sleeps (a sleeping worker costs the stepping
-/// thread a futex wake-up at the next publish). Short: 50 us halved the wake-ups while planning but, on a loaded
-/// machine, a spinning worker takes the core from the stepping thread (measured slower).
+/// thread a futex wake-up at the next publish). Short: a longer spin saves wake-ups while planning but, on a loaded
+/// machine, a spinning worker takes the core from the stepping thread, which costs more than the wake-ups.
 constexpr std::chrono::microseconds kPublishSpin{3};
 /// How long close() spins for the workers' last tasks before it sleeps.
 constexpr std::chrono::microseconds kDoneSpin{20};

@@ -1,5 +1,5 @@
 /// @file
-/// @brief NarrowphasePool: the persistent worker pool of the parallel narrowphase (issue 17 item 1).
+/// @brief NarrowphasePool: the persistent worker pool of the parallel narrowphase (sdfccd_parallel_step.cpp).
 ///
 /// @details Threads started once (with the contact system's settings) and parked on a condition variable between
 /// steps, so a 1 ms step pays a wake-up, not a thread start (the core's parallel_for starts threads on every call:
@@ -72,12 +72,12 @@ class NarrowphasePool {
   std::atomic<int> m_active{0};  // workers inside the current batch (changed under m_mutex; close() spins on it)
   bool m_stop = false;
   // What the claiming threads write on every task, apart from what the publisher writes (false sharing).
-  // The tasks still to claim are [front, back): the workers claim at the front, the caller, once it closes the
-  // batch, at the back. A task then tends to run on the same thread step after step (the pairs come in Bullet's
-  // order every step), so what it reads and writes (a pair's CCD history, its anchors) stays in that core's cache;
-  // claimed from one end by both, the half the caller took landed on either core at random. Both ends in one word,
-  // so that a claim at either end sees the other: the low half is the front, the high half the back (kOpen until
-  // close() sets it; the front then stops at m_published).
+  // The tasks still to claim are [front, back): the workers claim at the front, the caller, once it closes the batch,
+  // at the back. A task then tends to run on the same thread step after step (the pairs come in Bullet's order every
+  // step), so what it reads and writes (a pair's CCD history, its anchors) stays in that core's cache; claimed from one
+  // end by both, the half the caller takes would land on either core at random. Both ends in one word, so that a claim
+  // at either end sees the other: the low half is the front, the high half the back (kOpen until close() sets it; the
+  // front then stops at m_published).
   alignas(64) std::atomic<std::uint64_t> m_claims{0};
   std::atomic<std::size_t> m_finished{0};
   alignas(64) std::atomic<std::size_t> m_published{0};  // tasks [0, m_published) may be claimed

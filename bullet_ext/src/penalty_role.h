@@ -23,7 +23,7 @@
 namespace sdfccd::detail {
 
 /// Seconds on the steady clock. The statistics' CCD and penalty times use it: reading a thread's CPU clock is a
-/// system call (about 0.5 us, 7% of an 80-body pile's step when read around every query), the steady clock is not.
+/// system call, a noticeable share of a pile's step when read around every query; the steady clock is not.
 inline double steadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }

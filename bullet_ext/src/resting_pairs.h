@@ -1,5 +1,5 @@
 /// @file
-/// @brief Which pairs run no CCD because nothing in them moves (issue 17 item 2).
+/// @brief Which pairs run no CCD because nothing in them moves.
 ///
 /// @details Bullet itself skips a pair when neither body is active (btCollisionDispatcher::needsCollision), which
 /// covers two sleeping bodies and a sleeping body on a static one that Bullet keeps asleep (ISLAND_SLEEPING,

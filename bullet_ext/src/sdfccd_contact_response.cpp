@@ -47,12 +47,12 @@ void SdfccdContactSystem::setVelocities(const BodyStep& b, const ImpactBody& imp
 }
 
 void SdfccdContactSystem::applyContactMass(BodyStep& step, double timeStep) const {
-  // Contact mass scaling (per-area law; README "Contact response"): a body whose contacts' stiffness or damping,
+  // Contact mass scaling (per-area law; docs/design/contact-response.md): a body whose contacts' stiffness or damping,
   // summed over all its pairs, exceed what an explicit step carries with its mass m (omega dt <= Omega_max,
   // C dt / m <= maxDampingDt, the caps of contact_material.h taken per body) moves, while in contact, as if it had
   // the mass m_c that brings it back within them: its penalty impulses J and its external forces F act as
   // Delta v = (J + F dt) / m_c. The light box under a heavy one feels both its contacts at once, which no per-pair
-  // cap sees (measured with the per-pair caps alone: 165 mm of drift, 2.1 cells deep); with m_c it rests 0.65
+  // cap sees (with the per-pair caps alone it drifts 165 mm and sinks 2.1 cells deep); with m_c it rests 0.65
   // cell deep and still. Scaling F with J keeps rest exact (J = -F dt, whatever m_c); only the body's response
   // to a change of load is slower. The load is last step's (contacts persist; a first contact has the per-pair
   // caps alone).

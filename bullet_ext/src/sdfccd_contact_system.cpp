@@ -100,7 +100,7 @@ SdfccdContactSystem::AnchorSlot& SdfccdContactSystem::anchorSlot(const btPersist
   // (a hashed lookup misses the cache three times; an 80-body pile looks up ~2,000 slots per step).
   const SlotKey key{manifold, role};
   AnchorSlot* slot = nullptr;
-  // Written field by field in place: a SlotVisit{...} temporary is copied with `rep movs`, slow to start.
+  // Written field by field in place, which is cheaper than copying a SlotVisit{...} temporary into the vector.
   const auto recordVisit = [&] {
     SlotVisit& visit = m_slotOrder.emplace_back();
     visit.key = key;
@@ -232,7 +232,7 @@ void SdfccdContactSystem::processPair(const btCollisionObjectWrapper* wrap0, con
 
   // One role: the shell of `shellWrap` (ours, or a convex's surface points) against the field of `fieldWrap`
   // (ours, or a plane's or a convex's analytic field).
-  // The pair's material, combined the Bullet way (design 2.6), unless the settings override it.
+  // The pair's material, combined the Bullet way (contact_material.h), unless the settings override it.
   const btCollisionObject* object0 = wrap0->getCollisionObject();
   const btCollisionObject* object1 = wrap1->getCollisionObject();
   // Per-body overrides (setBodyContact) combined; without any, the world's settings themselves (no copy per pair).
@@ -423,7 +423,7 @@ void SdfccdContactSystem::queuePenaltyRole(const Role& role, const Field& field,
     const Plan& p = *static_cast<const Plan*>(data);
     // One input per thread, reused: fillPenaltyInput writes the same fields for every role, unconditionally, and
     // nothing else writes any, so the rest keep their defaults as in a fresh one; building a fresh one per role
-    // (~1.2 KB: four identity frames, the default settings) was 0.9% of a pile's instructions.
+    // (~1.2 KB: four identity frames, the default settings) costs more than refilling this one.
     static thread_local detail::PenaltyRoleInput in;
     detail::fillPenaltyInput(p.facts, in);
     detail::computePenaltyRole(*p.tree, p.field.get(), in, out);

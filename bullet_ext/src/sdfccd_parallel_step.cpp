@@ -1,5 +1,5 @@
 /// @file
-/// @brief The parallel narrowphase (issue 17 item 1): SdfccdContactSystem::planStep.
+/// @brief The parallel narrowphase: SdfccdContactSystem::planStep.
 ///
 /// @details Debian's Bullet has no BT_THREADSAFE: its dispatcher, pools, manifolds and callbacks may be touched by
 /// one thread only. So the parallel part is pure core CCD on copied poses and velocities, and everything that
@@ -16,15 +16,16 @@
 ///    nothing else changes (no manifold, record, statistic or impulse);
 /// 2. the queue runs on the persistent pool (narrowphase_pool.h), each query into its own result;
 /// 3. Bullet goes on processing its pairs in its order; each of our roles takes its planned result instead of
-///    computing it, and everything after the CCD (manifold points, records, clamps, impulses) runs as before.
+///    computing it, and everything after the CCD (manifold points, records, clamps, impulses) runs as in the
+///    serial narrowphase.
 /// Roles not planned (other shapes, compound children, a pair seen for the first time) compute on the spot.
 ///
 /// Same start state for every pair: in penalty mode with ForceTiming::SameStep the impulses reach the velocities
-/// in the narrowphase, so a query must not read a velocity an earlier pair changed. It never did: bodyStep() caches
-/// each body's predicted motion at its first pair of the step, and an impulse only reaches the bodies of the pair
-/// being processed, whose motions are cached by then. Planning predicts every planned body's motion before any
-/// impulse, which keeps that, so a step is bit-identical for 1, 2 or n threads and to the serial narrowphase
-/// before the plan (the golden hash, tests/bullet/golden_hash_test.cpp, did not change).
+/// in the narrowphase, so a query must not read a velocity an earlier pair changed. The serial narrowphase never
+/// does: bodyStep() caches each body's predicted motion at its first pair of the step, and an impulse only reaches
+/// the bodies of the pair being processed, whose motions are cached by then. Planning predicts every planned
+/// body's motion before any impulse, which keeps that, so a step is bit-identical for 1, 2 or n threads and to the
+/// serial narrowphase (the golden hash, tests/bullet/golden_hash_test.cpp, pins it).
 ///
 /// What the queries touch from several threads: the tree and field of a model (read-only), the pair and role's
 /// friction anchors and CCD history (one query each), the core's thread_local CCD scratch (rigid_ccd_query.h);

@@ -2,13 +2,13 @@
 /// @brief registerSdfccdAlgorithms() and releaseSdfccdAlgorithms() (see sdfccd_contact_system.h): who owns the
 /// contact system, and the refusal of Bullet's multi-threaded world and dispatcher.
 ///
-/// @details Bullet's dispatcher and world keep raw pointers (the create functions, the action), and a
-/// dispatcher has no slot that would own anything. Dropping the returned pointer was a use-after-free on the
-/// first step, so a process-wide table keyed by the dispatcher owns the system now: the registration, not the
-/// caller, decides its lifetime. The entry goes when the same dispatcher is registered again (a new world at the
-/// old one's address, or a second registration through the world overload, which frees the pair algorithms
-/// first) or when releaseSdfccdAlgorithms() undoes the registration. The dispatcher overload refuses a dispatcher
-/// whose registration is still live: it cannot reach the pairs whose algorithms point at the old system.
+/// @details Bullet's dispatcher and world keep raw pointers (the create functions, the action), and a dispatcher has no
+/// slot that would own anything. If the caller owned the system, dropping the returned pointer would be a
+/// use-after-free on the first step, so a process-wide table keyed by the dispatcher owns it: the registration, not the
+/// caller, decides its lifetime. The entry goes when the same dispatcher is registered again (a new world at the old
+/// one's address, or a second registration through the world overload, which frees the pair algorithms first) or when
+/// releaseSdfccdAlgorithms() undoes the registration. The dispatcher overload refuses a dispatcher whose registration
+/// is still live: it cannot reach the pairs whose algorithms point at the old system.
 #include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcherMt.h>

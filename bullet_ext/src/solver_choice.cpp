@@ -12,8 +12,9 @@
 namespace sdfccd {
 namespace {
 
-/// Measured (tests/bullet/textbook_solver_test.cpp, 10-box stack and 10 kg on 0.1 kg, 1/60 to 1/480 s): 1e-5 and
-/// 1e-4 hold both; 1e-6 lets the stack move 1.75 mm at 1/60 s; 0 falls back to sequential impulse on 1 step in 5.
+/// On the textbook stacks (tests/bullet/textbook_solver_stack_test.cpp, 10-box stack and 10 kg on 0.1 kg, 1/60 to
+/// 1/480 s) 1e-5 and 1e-4 hold both; 1e-6 lets the stack move 1.75 mm at 1/60 s; 0 falls back to sequential impulse
+/// on 1 step in 5.
 constexpr btScalar kMlcpGlobalCfm = btScalar(1e-5);
 
 /// Owns the Dantzig solver so that it is built before the btMLCPSolver that keeps a pointer to it.

@@ -1,5 +1,5 @@
 /// @file
-/// @brief Solver mode, one role of a pair (issue 13 design note, Section 3.1 items 2-3; beyond the paper): the CCD
+/// @brief Solver mode, one role of a pair (docs/design/contact-response.md, solver mode; beyond the paper): the CCD
 /// lists every shell point that reaches the speculative margin during the step, and each becomes a candidate
 /// manifold point at the step's start, with the field's normal and Bullet's sign (distance > 0 when separated).
 ///
@@ -30,7 +30,7 @@ namespace {
 
 /// The earliest fraction of the step at which a point's row is written (its lever arm turned on, its gap read):
 /// a point at the bottom of its arc near the step's start is read a little later, so that gap / t stays
-/// moderate (a rolling sphere measured 0.987 of 5/7 g sin theta with 0.25, 0.970 with 0.5).
+/// moderate (a rolling sphere reaches 0.987 of 5/7 g sin theta with 0.25, 0.970 with 0.5).
 constexpr double kEarliestRowFraction = 0.25;
 /// cos 75 degrees: a shell point counts when its outward normal is within 75 degrees of the contact's -n.
 constexpr double kGrazingCosine = 0.25881904510252074;
@@ -208,8 +208,8 @@ void computeSolverRole(const PointTree& tree, const Field& field, const SolverRo
     // A shell point whose own surface does not face the field (its outward normal more than 75 degrees from -n)
     // grazes it: a side face beside a face it rests on, or a face point past the other body's edge, where the
     // field's gradient turns sideways (radial about the edge, and tilted further by the grid's interpolation).
-    // Such points pushed stacked boxes sideways (a 10-box stack swayed and did not sleep); their neighbours on the
-    // facing side carry the contact. Edges and corners (averaged normals, 45 and 55 degrees off) stay.
+    // Such points would push stacked boxes sideways (a 10-box stack sways and does not sleep); their neighbours on
+    // the facing side carry the contact. Edges and corners (averaged normals, 45 and 55 degrees off) stay.
     const Vec3 shellNormal = in.worldFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
     if (shellNormal.dot(normalInWorld) > -kGrazingCosine) continue;
     const Vec3 offsetStart = in.worldFromShellStart * pointInShell - shellSweep.centre;

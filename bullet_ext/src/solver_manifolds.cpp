@@ -1,5 +1,5 @@
 /// @file
-/// @brief Solver mode, the whole pair (issue 13 design note, Sections 3.1 item 4 and 3.2; beyond the paper): the
+/// @brief Solver mode, the whole pair (docs/design/contact-response.md, manifold points; beyond the paper): the
 /// candidates of both roles are reduced to at most 4 clusters of 4 points (reduceContacts), and each cluster is
 /// written into one btPersistentManifold the way btManifoldResult::addContactPoint would, except for matching.
 ///

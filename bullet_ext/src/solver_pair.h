@@ -1,7 +1,7 @@
 /// @file
-/// @brief SdfccdSolverPair: what one pair keeps between steps in solver mode (issue 13 design note, Sections 3.1 and
-/// 3.2). Private to sdfccd::bullet: owned by SdfccdCollisionAlgorithm (one pointer, so the algorithm still fits
-/// Bullet's pool), written by solver_manifolds.cpp.
+/// @brief SdfccdSolverPair: what one pair keeps between steps in solver mode (docs/design/contact-response.md,
+/// solver mode). Private to sdfccd::bullet: owned by SdfccdCollisionAlgorithm (one pointer, so the algorithm still
+/// fits Bullet's pool), written by solver_manifolds.cpp.
 #pragma once
 
 #include <array>

@@ -91,9 +91,9 @@ double median(std::vector<double> values) {
   return values.empty() ? 0.0 : values[(values.size() - 1) / 2];
 }
 
-/// Computes each body's field culling bounds (field_culling_bounds.h) before the clock starts: a field computes
-/// them at its first tree query, once (about 20 ms for a 128^3 field), which the timed drop would otherwise count
-/// as CCD time of its first step (a setup, like the field's build: the paper's Table 1, not Table 4).
+/// Computes each body's field culling bounds (field_culling_bounds.h) before the clock starts: a field computes them at
+/// its first tree query, once (tens of milliseconds for a 128^3 field), which the timed drop would otherwise count as
+/// CCD time of its first step (a setup, like the field's build: the paper's Table 1, not Table 4).
 void warmFields(const SceneWorld& world) {
   for (int i = 0; i < world.bodyCount(); ++i) (void)world.model(i).field().cullingBounds();
 }

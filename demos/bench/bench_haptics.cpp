@@ -48,8 +48,8 @@ struct BenchHapticsOptions {
   int fig10bPoints = 0;  // 0: the scene's own shell
   bool noPassivity = false;
   std::string direction;     // Fig. 10b: the penalty force's direction ("": the scene's)
-  bool oldGradient = false;  // Fig. 10b: the renderer's former symmetric field-normal contact gradient
-  bool freshCcd = false;     // the penalty renderer's CCD without temporal coherence (the former cost)
+  bool oldGradient = false;  // Fig. 10b: the symmetric field-normal contact gradient (consistentGradient = false)
+  bool freshCcd = false;     // the penalty renderer's CCD without temporal coherence (what the coherence saves)
   bool allRungs = false;     // Fig. 10b: every rung from 1e6 to 4e7 N/m, no early stop, one line per method
   std::string coupling;      // Fig. 10b: the coupling's integration ("": explicit, the renderer's default)
 };
@@ -221,8 +221,8 @@ int runBenchHaptics(const BenchHapticsOptions& o) {
   std::printf(
       "paper: alpha puzzle, 25,000 points vs 512^3 field: simulation cycle under 1 ms (1 kHz) [target: p99 < 1 ms]; "
       "peg (6,691 points): penalty ~1,000 contacts fully inserted, constraint < 10; matched hole: both insert\n");
-  // Issue 16 (the alpha puzzle) and issue 17 item 5 (the peg): at 25,000 points, the simulation cycle's thread-CPU
-  // p99 under 1 ms in both methods (wall time beside it: it includes the other programs of a loaded machine).
+  // The targets of the alpha puzzle and the peg: at 25,000 points, the simulation cycle's thread-CPU p99 under 1 ms
+  // in both methods (wall time beside it: it includes the other programs of a loaded machine).
   for (const Row& r : rows) {
     const bool targetScene = r.scene.rfind("alpha-puzzle", 0) == 0 || r.scene.rfind("peg-in-hole", 0) == 0;
     if (targetScene && r.points >= 25000)

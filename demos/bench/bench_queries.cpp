@@ -1,6 +1,6 @@
 /// @file
 /// @brief `sdfccd bench queries`: btCollisionWorld::rayTest and convexSweepTest against an SdfccdShape beside a
-/// btBvhTriangleMeshShape of the same mesh (issue 15, item 2: "within 2x").
+/// btBvhTriangleMeshShape of the same mesh (the target: within 2x of Bullet's).
 ///
 /// @details One bunny (assets/meshes/bunny.off, scale 0.2, the drop scenes' resolution 128 by default) at a
 /// tilted pose in two collision worlds: as our shape, and as Bullet's BVH triangle mesh of the very same

@@ -141,7 +141,7 @@ ContenderRun runContender(const BenchScene& b, Contender& c, double seconds, dou
   ContenderRun run;
   const double start = totalEnergy(b, c);
   const double cell = b.probe->cellSize();
-  // The runaway guard in report mode (issue 14): a violation makes the run unstable ("runaway") instead of ending the
+  // The runaway guard in report mode: a violation makes the run unstable ("runaway") instead of ending the
   // program. Velocities are the centres' finite differences over the step, so the GImpact peer is watched alike.
   Scene guarded = b.scene;
   if (guarded.guard.action == GuardAction::Stop) guarded.guard.action = GuardAction::Report;

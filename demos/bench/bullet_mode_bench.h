@@ -1,6 +1,6 @@
 /// @file
-/// @brief `sdfccd bench bullet --part modes` and `--part stable`: the two contact modes (issue 13) beside Bullet's
-/// own shapes on the 20-bunny drop and on a box stack, and the largest stable step of each.
+/// @brief `sdfccd bench bullet --part modes` and `--part stable`: the two contact modes (docs/bullet.md) beside
+/// Bullet's own shapes on the 20-bunny drop and on a box stack, and the largest stable step of each.
 ///
 /// @details Contenders, each in its own world, the same scene (bodies, masses, inertia, poses, ground, sleeping):
 /// - penalty: SdfccdShape, `contact.mode: penalty` with the project's contact defaults (what a new world gets), at

@@ -24,7 +24,7 @@ namespace scaling_bench {  // named: the tool is a unity build
 
 constexpr double kScalingPenaltyStep = 0.001;       // s: the paper's step
 constexpr double kScalingSolverStep = 1.0 / 240.0;  // s: Bullet's usual fixed step
-constexpr double kTargetPenalty = 0.5;              // issue 17: 80 bunnies, real-time factor in penalty mode
+constexpr double kTargetPenalty = 0.5;              // target: 80 bunnies, real-time factor in penalty mode
 constexpr double kTargetSolver = 1.0;               // and in solver mode
 constexpr double kTargetSpeedup = 1.8;              // parallel speedup on 2 cores
 constexpr int kTargetBodies = 80;

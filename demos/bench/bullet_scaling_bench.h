@@ -1,5 +1,5 @@
 /// @file
-/// @brief `sdfccd bench bullet --part scaling` (issue 17 item 4): how the cost of a pile grows with its bodies and
+/// @brief `sdfccd bench bullet --part scaling`: how the cost of a pile grows with its bodies and
 /// with the narrowphase's threads, beside Bullet's convex hulls in the same run.
 ///
 /// @details 20, 80 and 320 bunnies (drop-bunnies' bunny: 777 points, 128^3 field; the shipped scene's 20
@@ -8,15 +8,15 @@
 ///   gets), on 1 and on 2 narrowphase threads (SdfccdContactSettings::threads; identical results);
 /// - the convex-hull world (gimpact_peer.h, PeerShape::ConvexHull: Bullet's btConvexHullShape of the bunny's hull)
 ///   at 1/240 s, Bullet's own single-threaded step.
-/// Per run: wall time of the steps, thread CPU of the stepping thread and CPU of the whole process (our pool's
-/// threads included), step time per body, CCD queries per step, the real-time factor (simulated / wall), the
-/// share of the wall time spent in the parallel batches (the rest is serial: Bullet's own step, the planning and
-/// the serial consumption of the results; Amdahl's bound) and the parallel speedup (wall on 1 thread / wall on 2). The
-/// issue's targets are printed beside ours: 80 bunnies at
-/// >= 0.5x real time in penalty mode, >= 1x in solver mode, speedup >= 1.8x on 2 cores (on an idle machine; the
-/// load average is printed with the results). A CSV (rows of the bench's CSV) and a PNG plot of step time per
-/// body against bodies. With `repeat` > 1 every world runs that many times, the worlds of a pile size in turns (so
-/// that a slow spell of the shared machine falls on all of them), and each row is the run of median wall time.
+/// Per run: wall time of the steps, thread CPU of the stepping thread and CPU of the whole process (our pool's threads
+/// included), step time per body, CCD queries per step, the real-time factor (simulated / wall), the share of the wall
+/// time spent in the parallel batches (the rest is serial: Bullet's own step, the planning and the serial consumption
+/// of the results; Amdahl's bound) and the parallel speedup (wall on 1 thread / wall on 2). The project's targets
+/// (docs/benchmarks.md, scaling) are printed beside ours: 80 bunnies at >= 0.5x real time in penalty mode, >= 1x in
+/// solver mode, speedup >= 1.8x on 2 cores (on an idle machine; the load average is printed with the results). A CSV
+/// (rows of the bench's CSV) and a PNG plot of step time per body against bodies. With `repeat` > 1 every world runs
+/// that many times, the worlds of a pile size in turns (so that a slow spell of the shared machine falls on all of
+/// them), and each row is the run of median wall time.
 #pragma once
 
 #if __has_include("sdfccd/bullet/scene_world.h")  // built only with the Bullet plugin

@@ -5,8 +5,8 @@
 /// @details Shared by `sdfccd bench bullet` (Fig. 10a) and the report's `stability` section. Every trial
 /// simulates the scene from its start with the given penalty model, timestep and stiffness, without
 /// time-of-impact clamping (so only the penalty models differ). The criterion is kStabilityCriterion. The runaway
-/// guard (sdfccd/model/runaway_guard.h) watches every trial in report mode (issue 14: a search must not stop at a
-/// runaway, it counts it as unstable): a scene's "guard": {"action": "stop"} becomes "report", "off" stays off.
+/// guard (sdfccd/model/runaway_guard.h) watches every trial in report mode (a search must not stop at a runaway,
+/// it counts it as unstable): a scene's "guard": {"action": "stop"} becomes "report", "off" stays off.
 /// Searches walk a list of increasing values and stop at the first unstable one: "largest stable" is the
 /// last value before it (0 when even the first is unstable).
 #pragma once

@@ -1,7 +1,7 @@
 /// @file
 /// @brief `--cache DIR` of `sdfccd bench ...` and `sdfccd report`: the model cache folder with the same default as
 /// simulate and haptics ($XDG_CACHE_HOME/sdfccd, else ~/.cache/sdfccd; sdfccd/model/model_cache_folder.h), never
-/// ./out/cache under the current folder (issue 14, finding 10).
+/// ./out/cache under the current folder.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -1,7 +1,7 @@
 /// @file
-/// @brief Validators of `sdfccd bench ...` and `sdfccd report` options (issue 14, finding 11): a zero or negative
-/// count, an empty list or an unknown name used to fall back to the default (or to an empty CSV) silently; now each
-/// is a one-line error naming the option (CLI11 prefixes the option's name), exit code non-zero.
+/// @brief Validators of `sdfccd bench ...` and `sdfccd report` options: a zero or negative count, an empty list or
+/// an unknown name is a one-line error naming the option (CLI11 prefixes the option's name), exit code non-zero,
+/// never a silent fall back to the default (or to an empty CSV).
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -1,7 +1,7 @@
 /// @file
 /// @brief `sdfccd report [--quick] --out DIR [--only id,...] [--assets DIR] [--cache DIR] [--threads N]`: runs the
-/// registered report sections (report_registry.h; issue 8: what accuracy costs in time, hard cases that stay
-/// stable, effects that cost nothing when off) and writes DIR/report.md and DIR/report.json.
+/// registered report sections (report_registry.h: what accuracy costs in time, hard cases that stay stable,
+/// effects that cost nothing when off) and writes DIR/report.md and DIR/report.json.
 ///
 /// @details Sections run in their registered order, each announced on stderr ("report [2/6] <title>") with a
 /// progress bar fed by the section's callback. A section that throws is reported as failed (one line with the

@@ -192,7 +192,7 @@ int runSimulate(const SimulateOptions& o) {
     out << "," << last.contacts << "," << last.penetrationCells << "," << world->kineticEnergy() << ","
         << last.ccdSeconds << "," << last.stepSeconds << "," << last.clamps << "\n";
   };
-  // The runaway watchdog (issue 14, finding 6): an exploded state stops the run like a NaN does, exit code 3.
+  // The runaway watchdog (runaway_guard.h): an exploded state stops the run like a NaN does, exit code 3.
   const RunawayGuard guard(world->scene(), world->kineticEnergy());
   std::optional<std::string> runaway;  // the first violation
   int runawayFrame = 0;

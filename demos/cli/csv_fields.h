@@ -3,7 +3,7 @@
 /// record for reading, readCsvRecord() reads one record (a quoted field may hold a line break).
 ///
 /// @details Names from scene files are data: a body named `a,b` or `say "hi"` must come back from the run's
-/// CSV as it went in (issue 14, finding 5). A field is quoted when it holds a comma, a quote, a line break or
+/// CSV as it went in. A field is quoted when it holds a comma, a quote, a line break or
 /// leading or trailing blanks (the reader trims unquoted fields); a quote inside is doubled.
 #pragma once
 

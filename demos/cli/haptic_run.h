@@ -31,7 +31,7 @@ bool isHapticRunFolder(const std::string& folder);
 RunFrames readHapticTicks(const std::string& folder);
 
 /// The scene file of a haptic run: summary.json's "scene_file". Throws sdfccd::Error naming summary.json when
-/// it is missing, unreadable or has no "scene_file" (runs written before it was recorded).
+/// it is missing, unreadable or has no "scene_file".
 std::string hapticRunSceneFile(const std::string& folder);
 
 /// A haptic run ready to render: bodies {tool, obstacle} with meshes, and frames whose poses are

@@ -1,6 +1,6 @@
 /// @file
-/// @brief Sections of `sdfccd report` register themselves here (issue 8: what accuracy costs in time, and hard
-/// cases that stay stable).
+/// @brief Sections of `sdfccd report` register themselves here (what accuracy costs in time, and hard cases that
+/// stay stable).
 ///
 /// @details Same pattern as bench_registry.h. Each demos/report/<id>.cpp defines a static ReportRegistrar; the
 /// report command (cmd_report.cpp) runs the sections in `order`, shows progress on stderr, and joins their

@@ -3,7 +3,7 @@
 ///
 /// @details A saved run folder holds a copy of the scene (`scene.json`), the per-frame CSV (`frames.csv`) and
 /// `summary.json`. The CSV is read by its header, so extra columns and any column order are fine. Two shapes are
-/// understood (README, section "Run folders"):
+/// understood (docs/cli.md, run folders):
 /// - long: one row per frame and body, with a `body` (or `name`) column and `px,py,pz,qw,qx,qy,qz`; rows of one
 ///   frame share the `frame` column (or, without it, the `time`);
 /// - wide: one row per frame, with `<body>.px` ... `<body>.qz` (or `<body>_px`) columns for every scene body.

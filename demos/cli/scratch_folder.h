@@ -3,7 +3,7 @@
 /// their logs and scripts), whose results are then moved to the user's outputs through OutputFile.
 ///
 /// @details gnuplot and ffmpeg open their outputs by name, following links, so they must never write at a
-/// predictable name in a folder another user can write to (issue 14, finding 2). The scratch folder is made
+/// predictable name in a folder another user can write to. The scratch folder is made
 /// by mkdtemp(3) under $TMPDIR (else /tmp): an unpredictable name, mode 0700, ours alone. The destructor
 /// removes it with everything in it. A finished file goes to its output with moveToOutput(), which has the
 /// OutputFile policy: the user's link followed, the target's mode kept, a device written in place, atomic.

@@ -1,6 +1,6 @@
 /// @file
-/// @brief Report section `effects`: an effect a scene does not ask for costs nothing (issue 8; scene effects as
-/// in scene.h: gravity, ground, damping, rotation, friction).
+/// @brief Report section `effects`: an effect a scene does not ask for costs nothing (scene effects as in scene.h:
+/// gravity, ground, damping, rotation, friction).
 ///
 /// @details One scene, ten bunnies of assets/scenes/drop-bunnies.json (the paper's Fig. 10a bunnies: 777 points,
 /// 128^3 fields; 64^3 in smoke mode) thrown down at 1 m/s, the upper layer at 2 m/s so that it catches the lower

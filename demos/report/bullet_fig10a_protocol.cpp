@@ -1,5 +1,5 @@
 /// @file
-/// @brief Report section `protocol`: paper Fig. 10a under the paper's protocol beside ours (issue 13 item 4) —
+/// @brief Report section `protocol`: paper Fig. 10a under the paper's protocol beside ours —
 /// the largest stable timestep of the continuous and the discrete penalty model with the penalty impulses applied
 /// over the *next* step (the paper, Section 4.1) and in the *same* step (ours), the energy each trial gained, and
 /// the one-degree-of-freedom prediction beside the measurement.
@@ -222,7 +222,8 @@ ReportSection runProtocol(const ReportContext& ctx) {
   md += "Every trial: `protocol_trials.csv`.\n";
 
   ReportSection section;
-  // The stated expectation (design note 5.3): under our timing the continuous model is at least as stable.
+  // The stated expectation (docs/design/penalty-stability.md): under our timing the continuous model is at least as
+  // stable.
   section.ok = largest[2] >= largest[3] && largest[3] > 0;
   section.markdown = md;
   return section;

@@ -112,9 +112,9 @@ std::string outcome(const HapticCase& hc, const haptics::HapticSessionSummary& s
   return (s.hasTunnelCheck ? s.tunneled : s.inserted) ? hc.checkYes : hc.checkNo;
 }
 
-/// Fig. 10b: the largest stable penalty stiffness per point of the peg, continuous vs discrete, with the renderer
-/// as it is and with the contact gradient it had before issue 16 (stability_sweep.h). Markdown; `ratio` gets the
-/// continuous / discrete ratio of the current renderer.
+/// Fig. 10b: the largest stable penalty stiffness per point of the peg, continuous vs discrete, with the renderer as it
+/// is and with the symmetric field-normal contact gradient (consistentGradient = false; stability_sweep.h,
+/// docs/design/haptics-stability.md). Markdown; `ratio` gets the continuous / discrete ratio of the current renderer.
 std::string fig10b(const ReportContext& ctx, double& ratio) {
   ratio = 0.0;
   if (ctx.smoke)
@@ -125,7 +125,7 @@ std::string fig10b(const ReportContext& ctx, double& ratio) {
   const double factor = std::pow(10.0, ctx.quick ? 0.2 : 0.1);
   MarkdownTable table({"contact gradient", "model", "largest stable k (N/m per point)", "isolated failures below",
                        "next unstable k", "why unstable there"});
-  double limits[2][2] = {{0, 0}, {0, 0}};  // [former, consistent][continuous, discrete]
+  double limits[2][2] = {{0, 0}, {0, 0}};  // [symmetric ("former"), consistent][continuous, discrete]
   OutputFile csv(ctx.outDir / "haptics_fig10b.csv");
   csv.stream() << "gradient,method,stiffness,stable,max_separation_cells,max_speed,max_penetration_cells,reason\n";
   for (int g = 0; g < 2; ++g) {

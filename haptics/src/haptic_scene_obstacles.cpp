@@ -1,6 +1,6 @@
 /// @file
 /// @brief The "obstacles" list of a haptic scene and the tool's own field ("shell.field"); see
-/// assets/scenes/haptics/README.md.
+/// docs/scene-format.md.
 #include <algorithm>
 #include <string>
 

@@ -58,7 +58,7 @@ PenaltyRenderer<Field>::PenaltyRenderer(const PointTree& tree, const Field* fiel
     m_query.coherence = &m_coherence;
     m_coherence.axisCertificates = settings.axisCertificates;
     // Builds the history (per-node tables and a first front) with a zero-length query at the start pose, so that the
-    // first tick of the loop does not pay for it (2.3 ms at 25,000 points in the peg). Its result is not used.
+    // first tick of the loop does not pay for it (milliseconds at 25,000 points in the peg). Its result is not used.
     ContactQuerySettings warm = m_query;
     warm.integratePenalty = false;
     queryContacts(m_tree, *m_field, ShellMotion::fixed(worldFromBodyStart), m_fieldMotion, settings.timestep, warm,
@@ -177,8 +177,9 @@ void PenaltyRenderer<Field>::updateContactGradient() {
   //                                                        gradient direction does not, its curvature is dropped)
   //   d tau = [r]x d f + dr x f,          dr x f = (dtheta x r) x f = [f]x [r]x dtheta   (the geometric term)
   // so K = -k B^T u g^T B + [[0, -[f]x], [0, -[r]x [f]x + [f]x [r]x]] (shell normal; without the c du terms for the
-  // gradient direction). Not symmetric; the step solves it with LU. consistentGradient = false keeps the old
-  // symmetric -k B^T n n^T B with n the unit gradient (the force's direction and the torque's lever dropped).
+  // gradient direction). Not symmetric; the step solves it with LU. consistentGradient = false gives the symmetric
+  // approximation -k B^T n n^T B with n the unit gradient (the force's direction and the torque's lever dropped),
+  // Fig. 10b's comparison.
   m_contactGradient.setZero();
   const Rigid& sdfFromEnd = m_contacts.sdfFromShellEnd;
   const Mat3 worldFromSdfRotation = m_worldFromSdf.linear();
@@ -190,7 +191,7 @@ void PenaltyRenderer<Field>::updateContactGradient() {
   // Continuous model: every point the CCD found in contact during the step, not only those inside at its end. A
   // point that left contact during the step still pushes during the next one (its force is the step's average,
   // eq. 5); without its stiffness in the implicit solve that push is explicit, and once k h^2 / m exceeds ~1 it
-  // throws the object out of the contact (the peg's ejection at 1.2e6 N/m, issue 16). Its depth gradient is taken
+  // throws the object out of the contact (the peg is ejected at 1.2e6 N/m). Its depth gradient is taken
   // at the end pose (phi is defined everywhere); its force-order terms below only when it is still inside.
   const bool everyContact = m_settings.contact.model == PenaltyModel::Continuous && m_settings.consistentGradient;
   for (const PointContact& c : m_contacts.ccd.contacts) {

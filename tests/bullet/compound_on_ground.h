@@ -1,4 +1,4 @@
-// The two-child compound of the textbook suites (issue 13): two SdfccdShape boxes in one btCompoundShape, 2 kg,
+// The two-child compound of the textbook suites: two SdfccdShape boxes in one btCompoundShape, 2 kg,
 // above a btStaticPlaneShape ground, in a plain btDiscreteDynamicsWorld with the contact system registered.
 #pragma once
 

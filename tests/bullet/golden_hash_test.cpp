@@ -14,11 +14,9 @@ namespace {
 
 // Paper Fig. 10a's drop, 20 bunnies with 777-point shells and 128^3 fields: by frame 600 the lower bunnies
 // have hit the ground and the upper ones each other, so ground, body-body, friction and the time-of-impact
-// clamp all contribute. Recorded at f30c1de (before the architecture issue, 12); unchanged through it.
-// Re-recorded once for issue 13 (penalty mode): the scene names the paper's parameters (per-point stiffness and
-// damping, shell_normal, regularized friction), so its physics is the same, but the time-of-impact clamp's
-// inelastic impulse now runs in double in the core (time_of_impact_clamp.h) instead of btScalar, and sleeping
-// bodies are no longer woken by our impulses: the rounding of every clamped step changes.
+// clamp all contribute. The scene names the paper's parameters (penalty mode, per-point stiffness and damping,
+// shell_normal, regularized friction); the hash also pins the rounding of the time-of-impact clamp's inelastic
+// impulse (in double, in the core: time_of_impact_clamp.h) and that our impulses wake no sleeping body.
 constexpr int kFrames = 600;
 constexpr std::uint64_t kGoldenHash = 0xe4178163e11a2192ull;
 

@@ -1,4 +1,4 @@
-// Non-finite state (issue 8's stability campaign, split from stability_test.cpp): NaN or infinite values in a
+// Non-finite state (beside the hard cases of stability_test.cpp): NaN or infinite values in a
 // Scene built in code, or injected into the world between steps, are rejected with one line naming the body and
 // the field, and the contact system never spreads them to another body.
 #include <btBulletDynamicsCommon.h>

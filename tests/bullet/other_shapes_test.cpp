@@ -1,4 +1,4 @@
-// Every Bullet shape against ours (issue 15 item 1; bullet_shape_fields.h): cylinders, cones, convex hulls
+// Every Bullet shape against ours (bullet_shape_fields.h): cylinders, cones, convex hulls
 // (any btConvexShape through its support points), static triangle meshes and terrain, compounds of them, and
 // the announcement of a pair still unsupported. Answers are analytic: rest heights from the shapes' sizes
 // (Bullet's margin included), no tunnelling through a zero-thickness wall at 20 m/s.
@@ -417,9 +417,9 @@ TriangleMesh wavyTerrain(bool closed) {
   return mesh;
 }
 
-// Measurement (README "Supported pairs"): a bunny dropped on a static wavy level, its triangles exact (our shell
-// against the triangles near it, btBvhTriangleMeshShape) and as a dense SDF of the closed level (a static body
-// of ours). Prints the cost; checks the bunny comes to rest on the terrain either way. Run with
+// Measurement (docs/bullet.md, supported shape pairs): a bunny dropped on a static wavy level, its triangles exact (our
+// shell against the triangles near it, btBvhTriangleMeshShape) and as a dense SDF of the closed level (a static body of
+// ours). Prints the cost; checks the bunny comes to rest on the terrain either way. Run with
 // --gtest_also_run_disabled_tests (slow: the level's SDF build).
 TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
   const auto bunny = test::buildTestBunny(1500);

@@ -1,4 +1,4 @@
-// The parallel narrowphase (issue 17 item 1) and resting pairs (item 2). The pairs' CCD runs on a pool; Bullet
+// The parallel narrowphase and resting pairs (resting_pairs.h). The pairs' CCD runs on a pool; Bullet
 // sees the results serially in its pair order, so a run must end in the very same state for any thread count.
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
@@ -97,7 +97,8 @@ TEST(ParallelNarrowphase, SleepingPileRunsNoCcd) {
   std::int64_t before = stats.ccdQueries;
   world.step();
   EXPECT_EQ(stats.ccdQueries - before, 4);
-  // The pile goes to sleep the way Bullet's island manager puts it there (sleeping itself is issue 13's).
+  // The pile goes to sleep the way Bullet's island manager puts it there (sleeping itself is tested by the textbook
+  // suites).
   for (int i : {0, 1}) {
     world.body(i).setLinearVelocity(btVector3(0, 0, 0));
     world.body(i).setAngularVelocity(btVector3(0, 0, 0));

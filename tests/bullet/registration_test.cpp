@@ -175,7 +175,7 @@ TEST(Registration, ConvexShapesInBothOrders) {
       EXPECT_EQ(find(dispatcher, &ours, convex, type), Found::Ours) << convex->getName();
       EXPECT_EQ(find(dispatcher, convex, &ours, type), Found::Ours) << convex->getName();
     }
-    // Any other convex shape (issue 15): ours too, through its support points (other_shapes_test.cpp).
+    // Any other convex shape: ours too, through its support points (other_shapes_test.cpp).
     EXPECT_EQ(find(dispatcher, &ours, &cylinder, type), Found::Ours);
     EXPECT_EQ(find(dispatcher, &cone, &ours, type), Found::Ours);
   }

@@ -249,8 +249,8 @@ struct NestingAllHits : btCollisionWorld::AllHitsRayResultCallback {
 
 // A rayTest from inside a result callback (nested query on the same thread) leaves the outer query's answer
 // unchanged: every crossing once, at the brute-force scan's fractions, and the nested rays are answered right too.
-// (Before each query leased its own scratch, the nested query cleared and regrew the outer one's candidate list
-// while the outer loop iterated it: a heap-use-after-free under the ASan run.)
+// (Each query leases its own scratch: with a shared one, the nested query would clear and regrow the outer one's
+// candidate list while the outer loop iterates it, a heap-use-after-free.)
 TEST(ShapeQueries, NestedRayTestFromAResultCallback) {
   QueryWorld w;
   std::mt19937 rng(20);

@@ -1,7 +1,7 @@
-// The stability campaign (issue 8): hard cases through the real plugin (SceneWorld), each checked against an
-// analytic answer or a conservation law — a long resting contact (no energy gain, no drift, the analytic rest
-// height), a stack, mass ratios of 1:1000, impacts at up to 100 cells per step, bodies starting
-// interpenetrated, and NaN/inf state that must be rejected with a one-line error naming the body and field.
+// Stability: hard cases through the real plugin (SceneWorld), each checked against an analytic answer or a conservation
+// law — a long resting contact (no energy gain, no drift, the analytic rest height), a stack, mass ratios of 1:1000,
+// impacts at up to 100 cells per step, bodies starting interpenetrated, and NaN/inf state that must be rejected with a
+// one-line error naming the body and field.
 //
 // Resting boxes use the mesh's 8 vertices as their shell (scene "points": 0): the 4 bottom corners carry the
 // weight, so every rest depth is closed-form, d = (weight carried) / (4 k), and a step costs a few
@@ -79,8 +79,8 @@ double storedPenaltyEnergy(const SceneWorld& world, double k) {
   return energy;
 }
 
-// Steps of the long resting run: 10^5 (100 s at 1 ms) everywhere. Measured: 1.1 s in Release; 12 s wall
-// (4 s CPU) under AddressSanitizer + UBSan on the shared 2-core machine, under the ~20 s a sanitizer test may take.
+// Steps of the long resting run: 10^5 (100 s at 1 ms) everywhere: short in Release, and within the time a sanitizer
+// test may take under AddressSanitizer + UBSan.
 constexpr int kRestingSteps = 100000;
 
 // A box rests on the analytic ground for 10^5 steps of 1 ms (the conservative force direction, see

@@ -1,4 +1,4 @@
-// Textbook mechanics in penalty mode (issue 13 item 3, design note section 4): each test sets only geometry,
+// Textbook mechanics in penalty mode (docs/design/contact-response.md, textbook suite): each test sets only geometry,
 // masses and mu (scene `contact.friction`); shells, fields, stiffness and damping are the project's defaults
 // (stiffness per area, damping ratio from restitution, Blend direction, anchor friction) at 1 ms steps.
 // Tests whose name ends in `Short` form the subset the sanitizer builds run (gtest filter `*Short*`).
@@ -111,7 +111,7 @@ void expectIncline(double thetaDegrees, double mu) {
   const double theta = thetaDegrees * kPi / 180.0;
   const double expected = kG * (std::sin(theta) - mu * std::cos(theta));
   // Sticking is claimed between 0.5 and 2.5 s; a slide's acceleration is fitted over [0.5, 1.5] s (100 samples;
-  // over [0.5, 2.5] s the slides matched Coulomb within 0.01%, so the longer window only cost time).
+  // over [0.5, 2.5] s the slides match Coulomb within 0.01% too, so the longer window would only cost time).
   const double seconds = expected <= 0.0 ? 2.5 : 1.5;
   const InclineResult r = runIncline(thetaDegrees, mu, seconds);
   std::printf("incline theta %.1f deg mu %.2f: a = %.4f m/s^2 (Coulomb %.4f), travel 0.5-%.1f s = %.3g m\n",
@@ -144,8 +144,8 @@ TEST(TextbookPenalty, InclineSweep) {
 }
 
 // The pair's damping is Rayleigh damping of its elastic wrench (penalty_model.cpp, PairDamping): per-point dampers
-// alone, pushing harder on the patch's approaching front than on its receding back, braked the roll to
-// a = 0.69 of 5/7 g sin theta (measured: 1.66 m/s^2; with damping off 0.99); now 0.98.
+// alone, pushing harder on the patch's approaching front than on its receding back, brake the roll to
+// a = 0.69 of 5/7 g sin theta (1.66 m/s^2; with damping off 0.99); with the pair's Rayleigh damping it rolls at 0.98.
 TEST(TextbookPenalty, SphereRollsAtFiveSeventhsGSinTheta) {
   const double theta = 20.0 * kPi / 180.0;
   const Vec3 gravity(kG * std::sin(theta), -kG * std::cos(theta), 0.0);
@@ -247,8 +247,8 @@ TEST(TextbookPenalty, PyramidOfFifteenStands) {
   expectStands(world, 10.0, "pyramid of 15");
 }
 
-// The light box feels both its contacts at once (omega^2 = (K_ground + 2 K_top) / m): per-pair caps alone left
-// it at the explicit limit (measured 2.08 cells at the end, 165 mm of drift). Contact mass scaling
+// The light box feels both its contacts at once (omega^2 = (K_ground + 2 K_top) / m): per-pair caps alone leave
+// it at the explicit limit (2.08 cells deep at the end, 165 mm of drift). Contact mass scaling
 // (SdfccdContactSystem::applyContactMass) keeps each body within the caps with its whole load, at full stiffness.
 TEST(TextbookPenalty, HeavyOnLightStands) {
   SceneWorld world(textbookScene({boxBody("light", Vec3(0, kHalf + 0.001, 0), 0.1),
@@ -347,7 +347,7 @@ double sameStepRestitution(double mass, double stiffness, double damping, double
 
 TEST(TextbookPenalty, ReboundIsTheSameStepSpringDashpotsShort) {
   // Penalty mode: a 1 kg box dropped flat from h = 0.3 m with restitution e. The rebound comes from the damping
-  // ratio zeta(e) of the pair (design 2.2: zeta = -ln e / sqrt(pi^2 + ln^2 e), whose continuous spring-dashpot
+  // ratio zeta(e) of the pair (contact_material.h: zeta = -ln e / sqrt(pi^2 + ln^2 e), whose continuous spring-dashpot
   // gives back e, or a little more without tension) integrated at 1 ms by the same-step scheme: measured
   // e_eff = 0.25, 0.46, 0.68 for e = 0.3, 0.6, 0.9 (no time-of-impact clamp fires: 2.4 mm a step < 0.5 cell).
   // The answer to match is that law's rebound (sameStepRestitution), with K = k_A S = 1e7 N/m^3 * 0.01 m^2, and it
@@ -383,7 +383,7 @@ TEST(TextbookPenalty, ReboundIsTheSameStepSpringDashpotsShort) {
     EXPECT_TRUE(hit) << "e " << e;
     EXPECT_EQ(clamps, 0) << "e " << e;
     EXPECT_LT(measured, restitutionFromDampingRatio(zeta)) << "e " << e;
-    // 10%, the issue's tolerance for a rebound (measured ratios 0.95, 0.96, 0.97: the box's edge points and its
+    // 10%, the tolerance for a rebound (measured ratios 0.95, 0.96, 0.97: the box's edge points and its
     // friction are not in the one-dimensional law).
     EXPECT_NEAR(measured / expected, 1.0, 0.10) << "e " << e;
   }

@@ -1,8 +1,8 @@
 /// @file
-/// @brief Textbook stacks in solver mode (issue 13, design note Section 4): columns of 3 and 10 boxes, a 15-box
-/// pyramid and 10 kg on 0.1 kg stand (no centre moves more than 1 mm between t = 1 s and 10 s, penetration under 1
-/// cell at the end) at Bullet's fixed step of 1/240 s and at its default step of 1/60 s; Bullet's own btBoxShapes
-/// under the same criterion as the reference; contact.solver builds the solver it names.
+/// @brief Textbook stacks in solver mode (docs/design/contact-response.md, textbook suite): columns of 3 and 10 boxes,
+/// a 15-box pyramid and 10 kg on 0.1 kg stand (no centre moves more than 1 mm between t = 1 s and 10 s, penetration
+/// under 1 cell at the end) at Bullet's fixed step of 1/240 s and at its default step of 1/60 s; Bullet's own
+/// btBoxShapes under the same criterion as the reference; contact.solver builds the solver it names.
 ///
 /// @details The stacks pass because solver-mode worlds get an exact LCP solver by default (contact.solver mlcp:
 /// btMLCPSolver with btDantzigSolver, sdfccd/bullet/contact_solver.h). Under Bullet's default sequential-impulse
@@ -44,7 +44,8 @@ TEST(SolverTextbook, StackOfThreeStandsAndSleeps) {
 }
 
 // Measured with the default solver (mlcp): 0.015 mm at 1/240 s, 0.024 mm at 1/60 s (also 0.003 mm at 1/120 s and
-// 0.0006 mm at 1/480 s); asleep by the end. With contact.solver sequential_impulse: 5 to 23 mm (issue 13's open case).
+// 0.0006 mm at 1/480 s); asleep by the end. With contact.solver sequential_impulse: 5 to 23 mm (Gauss-Seidel does not
+// converge on it).
 TEST(SolverTextbook, StackOfTen) {
   const StandResult r = stand(column(10), 10.0);
   expectStands(r, "10 boxes at 1/240 s");
@@ -76,8 +77,8 @@ std::vector<BoxSpec> heavyOnLight() {
 }
 
 // Measured with the default solver (mlcp): 0.004 mm at 1/240 s, 0.003 mm at 1/60 s. With sequential_impulse at 10
-// iterations the heavy box slid 12 cm off (Gauss-Seidel at a 100:1 mass ratio pushed the light box 2.3 mm into the
-// ground and it bounced; issue 13's open case).
+// iterations the heavy box slides 12 cm off (Gauss-Seidel at a 100:1 mass ratio pushes the light box 2.3 mm into the
+// ground and it bounces).
 TEST(SolverTextbook, HeavyOnLight) {
   expectStands(stand(heavyOnLight(), 10.0), "10 kg on 0.1 kg at 1/240 s");
 }
@@ -140,7 +141,7 @@ TEST(SolverTextbook, BulletOwnBoxesStandWithMlcpShort) {
   EXPECT_LT(bulletBoxStandMotion({0.1, 10.0}, ContactSolver::Mlcp), 1e-4) << "10 kg on 0.1 kg";
 }
 
-// The reference for issue 13's open cases: Bullet's own boxes at Bullet's defaults
+// The reference for the sequential-impulse failures above: Bullet's own boxes at Bullet's defaults
 // (btSequentialImpulseConstraintSolver, 10 iterations) fail the criterion. Measured: the 10-stack moves 4.1 / 2.0 / 2.1
 // / 0.4 / 1.9 mm and 10 kg on 0.1 kg 196 / 173 / 5.7 / 3.4 / 16 mm at 10 / 20 / 30 / 40 / 50 iterations.
 // btNNCGConstraintSolver: 1.9 mm, and the heavy box is thrown 117 m. btMLCPSolver with Dantzig but without the global
@@ -190,7 +191,7 @@ std::pair<MlcpSolverCounts, double> mlcpBoxPyramid(int rows) {
 }
 
 // The Mlcp solver's cost bound (contact_solver.h): a 5-row pyramid (15 boxes, up to about 300 rows) is answered by
-// Dantzig, without a failure; an 8-row one (36 boxes, about 770 rows, 63 ms a step under Dantzig) by sequential
+// Dantzig, without a failure; an 8-row one (36 boxes, about 770 rows, slow under Dantzig) by sequential
 // impulse once its contacts exceed kMlcpMaxRows. Both stand (the top box sinks by the gaps it closes, under 1 cm).
 TEST(SolverTextbook, MlcpHandsLargeIslandsToSequentialImpulse) {
   const auto [small, smallSink] = mlcpBoxPyramid(5);

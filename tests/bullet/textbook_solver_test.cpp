@@ -1,7 +1,7 @@
 /// @file
-/// @brief Textbook mechanics in solver mode (issue 13, design note Section 4): analytic answers for an incline, a
-/// rolling sphere, restitution, sleeping, impulses and callbacks, at Bullet's fixed step of 1/240 s (the stacks:
-/// textbook_solver_stack_test.cpp; the shared scenes: textbook_solver_util.h).
+/// @brief Textbook mechanics in solver mode (docs/design/contact-response.md, textbook suite): analytic answers for an
+/// incline, a rolling sphere, restitution, sleeping, impulses and callbacks, at Bullet's fixed step of 1/240 s (the
+/// stacks: textbook_solver_stack_test.cpp; the shared scenes: textbook_solver_util.h).
 ///
 /// @details Each scene sets only geometry, masses and the bodies' friction and restitution; shells, fields and the
 /// solver keep their defaults. The ground gets friction 1 and restitution 1, so Bullet's product rule makes the
@@ -114,8 +114,8 @@ TEST(SolverTextbook, InclineShort) {
   EXPECT_NEAR(fitAcceleration(ts, xs) / (kG * (std::sin(t) - 0.5 * std::cos(t))), 1.0, 0.05);
 }
 
-// Measured 0.987 of 5/7 g sin theta (4.7 m/s at 2 s). Before the rows were written on the points' arcs
-// (solver_contacts.cpp) the support sat ahead of the centre: 0.63, with a hop above sqrt(2 g r cos theta).
+// 0.987 of 5/7 g sin theta (4.7 m/s at 2 s): the rows are written on the points' arcs (solver_contacts.cpp). Written
+// at the step's start, the support would sit ahead of the centre: 0.63, with a hop above sqrt(2 g r cos theta).
 TEST(SolverTextbook, SphereRollsAtFiveSevenths) {
   const double theta = 20.0;
   std::ostringstream body;
@@ -158,8 +158,8 @@ double reboundApex(double e, double height, double timestep = kStep) {
 
 TEST(SolverTextbook, RestitutionReboundsToESquaredH) {
   const double h = 0.3;
-  // Measured 1.019, 1.018, 1.018. Before the rebound target accounted for the gap the speculative point still
-  // had (solver_contacts.cpp, reboundCoefficient), e = 0.3 rose to 1.24 e^2 h.
+  // Apex ratios 1.019, 1.018, 1.018: the rebound target accounts for the gap the speculative point still has
+  // (solver_contacts.cpp, reboundCoefficient); without it e = 0.3 would rise to 1.24 e^2 h.
   for (double e : {0.3, 0.6, 0.9}) {
     const double apex = reboundApex(e, h);
     EXPECT_NEAR(apex / (e * e * h), 1.0, 0.10) << "e " << e << " apex " << apex;

@@ -1,7 +1,7 @@
 // Shared scenes of the solver-mode textbook suites (textbook_solver_test.cpp, textbook_solver_stack_test.cpp): boxes
-// described by geometry, mass, friction and restitution, a world whose ground passes the body's values through
-// Bullet's product rule, and the stand criterion of issue 13 (no centre moves more than 1 mm between t = 1 s and the
-// end, penetration under 1 cell at the end).
+// described by geometry, mass, friction and restitution, a world whose ground passes the body's values through Bullet's
+// product rule, and the stand criterion (no centre moves more than 1 mm between t = 1 s and the end, penetration under
+// 1 cell at the end).
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
@@ -121,7 +121,7 @@ inline std::vector<BoxSpec> column(int n, double mass = 1.0) {
 }
 
 inline void expectStands(const StandResult& r, const std::string& what) {
-  // Printed on success too: the README and the tests' comments quote these numbers.
+  // Printed on success too: the docs and the tests' comments quote these numbers.
   std::printf("  measured %s: largest centre motion %.4f mm after 1 s, end penetration %.3f cells, asleep %d\n",
               what.c_str(), 1e3 * r.maxMotion, r.endPenetrationCells, int(r.allAsleep));
   EXPECT_TRUE(r.finite) << what;

@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
-# cli.bench_queries: `sdfccd bench queries` (issue 15, item 2) writes the CSV contract
-# query,shape,seconds_per_query,hits,queries for rayTest and the two sweeps, ours (sdfccd) beside Bullet's
-# btBvhTriangleMeshShape (bvh) of the same mesh, with the same hits for rays; bad options fail with one line.
-# Timings are printed, never asserted.
+# cli.bench_queries: `sdfccd bench queries` writes the CSV contract query,shape,seconds_per_query,hits,queries for
+# rayTest and the two sweeps, ours (sdfccd) beside Bullet's btBvhTriangleMeshShape (bvh) of the same mesh, with the same
+# hits for rays; bad options fail with one line. Timings are printed, never asserted.
 source "$(dirname "$0")/lib.sh"
 skip_without bench "built without the bench command"
 "$tool" bench --help | grep -q "queries" || { echo "cli.bench_queries: skipped (built without the Bullet plugin)"; exit 0; }

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# `sdfccd bench ...` and `sdfccd report` (issue 14, findings 10 and 11): their model cache defaults to
-# $XDG_CACHE_HOME/sdfccd like simulate's (never ./out/cache), --cache overrides it, an unwritable cache fails at
-# once; a bogus method, an empty list and a zero or negative count are each a one-line error with a non-zero exit
-# and no output, instead of an empty CSV or a silent default.
+# `sdfccd bench ...` and `sdfccd report`: their model cache defaults to $XDG_CACHE_HOME/sdfccd like simulate's (never
+# ./out/cache), --cache overrides it, an unwritable cache fails at once; a bogus method, an empty list and a zero or
+# negative count are each a one-line error with a non-zero exit and no output, instead of an empty CSV or a silent
+# default.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 
@@ -11,7 +11,7 @@ bunny="$assets/meshes/bunny.off"
 mkdir -p "$work/cwd"
 cd "$work/cwd" || fail "cd"
 
-# Finding 11: each a one-line error, non-zero exit, no CSV written.
+# Bad options: each a one-line error, non-zero exit, no CSV written.
 bad() {
   local what="$1"; shift
   expect_one_line_error "$@"
@@ -40,7 +40,7 @@ if "$tool" --help | grep -qE "^ +simulate "; then  # --timestep on the command l
   grep -q -- "--timestep" "$work/err.txt" || fail "the --timestep error does not name the option"
 fi
 
-# Finding 10: the default cache is $XDG_CACHE_HOME/sdfccd for report and bench alike (here a report section builds
+# The default cache is $XDG_CACHE_HOME/sdfccd for report and bench alike (here a report section builds
 # the bunny fields, then the benchmark loads them from there), and nothing is written under ./out.
 "$tool" report --smoke --only segments --out "$work/report" --assets "$assets" > /dev/null 2> "$work/err.txt" ||
   fail "report: $(cat "$work/err.txt")"

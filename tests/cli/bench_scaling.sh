@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Issue 17: `sdfccd simulate --threads N` gives the same motion for every N (the parallel narrowphase hands its
-# results to Bullet in pair order); a bad value fails with one line; `bench bullet --part scaling --quick` writes its
-# rows (time per body, CCD queries, speedups) and its plot, each row the median of --repeat runs.
+# `sdfccd simulate --threads N` gives the same motion for every N (the parallel narrowphase hands its results to Bullet
+# in pair order); a bad value fails with one line; `bench bullet --part scaling --quick` writes its rows (time per body,
+# CCD queries, speedups) and its plot, each row the median of --repeat runs.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Fuzz-style robustness of two readers (issue 14): the segments file of `sdfccd query` and the haptic scene of
-# `sdfccd haptics`, fed truncations, seeded random bytes, byte flips, huge lines and /dev/zero. Every input
-# must end in exit 0 or 1 with at most one line on stderr (exactly one on failure) within the time limit:
-# never a crash (a signal), a hang, or memory filled.
+# Fuzz-style robustness of two readers: the segments file of `sdfccd query` and the haptic scene of `sdfccd haptics`,
+# fed truncations, seeded random bytes, byte flips, huge lines and /dev/zero. Every input must end in exit 0 or 1 with
+# at most one line on stderr (exactly one on failure) within the time limit: never a crash (a signal), a hang, or memory
+# filled.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 
@@ -83,7 +83,7 @@ if "$tool" --help | grep -qE "^ +haptics "; then
     haptic "haptic ${input##*/}" "$input"
   done
   haptic "haptic: /dev/zero" /dev/zero
-  # Absurd values each give one line naming the key (finding 8).
+  # Absurd values each give one line naming the key.
   bad_haptic() {
     python3 - "$work/haptic.json" "$work/bad.json" "$1" <<'PY'
 import json, sys

@@ -68,7 +68,7 @@ echo '{"obstacle": {"plane": {"normal": [0, 1, 0]}}, "shell": {"shape": "box", "
   "guard": {"action": "explode"}}' > "$work/badguard.json"
 expect_error "bad guard action" haptics "$work/badguard.json" --virtual-time
 
-# The runaway guard (issue 14): the sliding box with an absurd penalty stiffness explodes within a few dozen ticks;
+# The runaway guard: the sliding box with an absurd penalty stiffness explodes within a few dozen ticks;
 # the device renders zero force, the loop stops, one stderr line names the body, exit code 3; the outputs stay.
 sed 's/"constraint": {/"penalty": {"stiffness": 1e12}, "constraint": {/' "$assets/scenes/haptics/plane-slide.json" \
   > "$work/exploding.json"

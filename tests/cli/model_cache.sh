@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The model cache (issue 14, finding 10): simulate and haptics cache in $XDG_CACHE_HOME/sdfccd (else
-# ~/.cache/sdfccd), never in the current folder; --cache DIR overrides; an unwritable cache fails at once with
-# one line naming it; a damaged entry is reported (one line naming the file), rebuilt, and the run succeeds.
+# The model cache: simulate and haptics cache in $XDG_CACHE_HOME/sdfccd (else ~/.cache/sdfccd), never in the current
+# folder; --cache DIR overrides; an unwritable cache fails at once with one line naming it; a damaged entry is reported
+# (one line naming the file), rebuilt, and the run succeeds.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# A run folder whose last frame went non-finite (simulate stops there with exit code 3) can still be plotted
-# and rendered (issue 14, finding 11): the frames before the NaN row are used, one warning line says where the
-# run stopped. A NaN in the first frame is still an error.
+# A run folder whose last frame went non-finite (simulate stops there with exit code 3) can still be plotted and
+# rendered: the frames before the NaN row are used, one warning line says where the run stopped. A NaN in the first
+# frame is still an error.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# How every command writes its outputs (issue 14, findings 1, 2, 4 and 5): an output that is an input is
-# refused before any work; /dev/null, a FIFO and stdout are written in place; a link planted at a temporary
-# name is never followed, a link the user names is; modes are kept; SIGTERM leaves no temporary file and no
-# empty run folder; --record-every thins frames.csv; body names with commas survive the CSV.
+# How every command writes its outputs: an output that is an input is refused before any work; /dev/null, a FIFO and
+# stdout are written in place; a link planted at a temporary name is never followed, a link the user names is; modes are
+# kept; SIGTERM leaves no temporary file and no empty run folder; --record-every thins frames.csv; body names with
+# commas survive the CSV.
 # Usage: output_safety.sh /path/to/sdfccd /path/to/assets
 source "$(dirname "$0")/lib.sh"
 
@@ -58,7 +58,7 @@ cmp -s from-fifo.sdf ref.sdf || fail "the FIFO did not carry the field"
 cmp -s from-stdout.sdf ref.sdf || fail "-o - did not write the field on stdout"
 grep -q dimensions stdout-report.txt || fail "-o -: the report did not go to stderr"
 
-# 3. The issue's reproduction: a link planted at the old predictable temporary name is not followed.
+# 3. A link planted at a predictable temporary name (the target's name, ".tmp-", the pid, a counter) is not followed.
 echo precious >victim.txt
 bash -c 'ln -s victim.txt o.sdf.tmp-$$-0; ln -s victim.txt o.sdf.tmp-$$-1; exec "$0" build-sdf tet.off -r 8 -p 2 -o o.sdf' \
   "$tool" >/dev/null 2>&1 || fail "build-sdf with planted links failed"

@@ -57,10 +57,10 @@ first=$(sed -n 2p "$work/third.csv" | cut -d, -f2)
 awk -v t="$first" 'BEGIN { d = t - 1/3; if (d < 0) d = -d; exit !(d < 1e-13 && length(t) >= 14) }' \
   || fail "t = 1/3 printed as '$first'"
 
-# Very long segments through the field (issue 14, finding 9): the part inside the box is clipped and walked in
-# its own frame, so the hit is found; the fraction is rounded to double precision. Rows 0-2 cross x = 1 near
-# t = 0.5 (2e16 and 2e20 long, and oblique), rows 3-5 reach the field only at their very end, t ~ 1 - 1e-17,
-# where a walk in t used to find nothing (rows: ending inside at x = 0.7, crossing x = 1, and oblique).
+# Very long segments through the field: the part inside the box is clipped and walked in its own frame, so the hit is
+# found; the fraction is rounded to double precision. Rows 0-2 cross x = 1 near t = 0.5 (2e16 and 2e20 long, and
+# oblique), rows 3-5 reach the field only at their very end, t ~ 1 - 1e-17, where a walk in t would find nothing (rows:
+# ending inside at x = 0.7, crossing x = 1, and oblique).
 printf '%s\n' '1e16,0.5,0.5,-1e16,0.5,0.5' '1e20,0.5,0.5,-1e20,0.5,0.5' '1e16,0.5,1e15,-1e16,0.5,-1e15' \
   '-2e16,0.5,0.5,0.7,0.5,0.5' '-2e16,0.5,0.5,1.7,0.5,0.5' '-2e16,0.5,-2e15,1.7,0.5,0.3' > "$work/long.txt"
 for octree in full leaves off; do

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `sdfccd render` and `sdfccd plot` on a hand-made run folder (long CSV layout, README "Run folders"):
+# `sdfccd render` and `sdfccd plot` on a hand-made run folder (long CSV layout, docs/cli.md, run folders):
 # frames, contact sheet and plots are written with the right sizes; bad runs fail with one clear line.
 # Usage: bash render_plot.sh /path/to/sdfccd /path/to/assets
 set -uo pipefail

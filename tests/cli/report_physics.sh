@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Contract test of the physics sections of `sdfccd report` (thin, stability, protocol, haptics; issues 8 and 13): a smoke run
+# Contract test of the physics sections of `sdfccd report` (thin, stability, protocol, haptics): a smoke run
 # writes report.md with the three sections, their PNGs and CSVs; the key outcomes hold: the continuous model
 # with the time-of-impact clamp never tunnels through the plate, the discrete model tunnels at least once;
 # in the haptic scenes the constraint method never passes the thin wire and the discrete penalty method does.
@@ -49,7 +49,7 @@ if [ "$has_simulate" -eq 1 ]; then
   st="$R/stability_trials.csv"
   [ "$(wc -l < "$st")" -ge 5 ] || fail "stability_trials.csv too short"
   awk -F, 'NR > 1 && ($5 != 0 && $5 != 1) {exit 1}' "$st" || fail "stability_trials.csv: bad stable flag"
-  # Fig. 10a under the paper's protocol (issue 13): every model and timing at every dt; the paper's continuous
+  # Fig. 10a under the paper's protocol: every model and timing at every dt; the paper's continuous
   # model (next-step timing) gains energy somewhere on the grid, ours (same step) is stable at 1 ms.
   grep -q "^## Fig. 10a under the paper's protocol" "$R/report.md" || fail "report.md lacks the protocol section"
   pt="$R/protocol_trials.csv"

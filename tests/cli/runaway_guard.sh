@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# The physical sanity guard (issue 14, finding 6). The reproductions of the finding (a resting box with
-# stiffness, damping or friction 1e12, mass 1e-30 or 1e30) are refused up front with one line naming the key;
-# a scene inside the key ranges that still explodes stops with exit code 3 and one line on stderr naming the
-# body; "guard": {"action": "report"} lets it run and records the violation; a sound scene is left alone.
+# The physical sanity guard. Absurd settings that blow a run up (a resting box with stiffness, damping or friction 1e12,
+# mass 1e-30 or 1e30) are refused up front with one line naming the key; a scene inside the key ranges that still
+# explodes stops with exit code 3 and one line on stderr naming the body; "guard": {"action": "report"} lets it run and
+# records the violation; a sound scene is left alone.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 
 skip_without simulate "built without the Bullet plugin"
 value() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
 
-# box_scene CONTACT BODY_EXTRA TOP_EXTRA [FRAMES] [MASS]: a box resting on the ground (the finding's setup).
+# box_scene CONTACT BODY_EXTRA TOP_EXTRA [FRAMES] [MASS]: a box resting on the ground.
 box_scene() {
   cat > "$work/scene.json" <<JSON
 { "timestep": 0.001, "frames": ${4:-300}, "effects": ["gravity", "ground", "damping", "friction"] $3,

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Scene names are data, never paths (issue 14, finding 3): without --out, `simulate` writes to
-# out/simulate/<sceneFolderName(name)> under the current folder, whatever the scene's "name" holds ("../../x",
-# slashes, a newline, control characters, an empty name), and shows control characters as '?'.
+# Scene names are data, never paths: without --out, `simulate` writes to out/simulate/<sceneFolderName(name)> under the
+# current folder, whatever the scene's "name" holds ("../../x", slashes, a newline, control characters, an empty name),
+# and shows control characters as '?'.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 

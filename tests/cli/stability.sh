@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# sdfccd simulate on scene files with NaN/inf, zero or negative masses and timesteps, and on bodies whose
-# precomputed field or shell holds NaN (issue 8): each is one line on stderr naming what is wrong, a non-zero
-# exit, and no output file in the run folder (frames.csv, summary.json, scene.json are never half-written).
+# sdfccd simulate on scene files with NaN/inf, zero or negative masses and timesteps, and on bodies whose precomputed
+# field or shell holds NaN: each is one line on stderr naming what is wrong, a non-zero exit, and no output file in the
+# run folder (frames.csv, summary.json, scene.json are never half-written).
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 

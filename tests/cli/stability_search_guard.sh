@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The stability searches run the runaway guard in report mode (issue 14): a runaway makes a trial unstable
-# ("runaway" as the reason) and the search goes on, exit 0, instead of the guard stopping the program. Here the
-# Fig. 10a search of `bench bullet` runs on drop-bunnies.json with the tightest guard the keys allow (every factor
-# 1), so the unstable trials are caught by the guard before the energy criterion, and sound trials still pass.
+# The stability searches run the runaway guard in report mode: a runaway makes a trial unstable ("runaway" as the
+# reason) and the search goes on, exit 0, instead of the guard stopping the program. Here the Fig. 10a search of `bench
+# bullet` runs on drop-bunnies.json with the tightest guard the keys allow (every factor 1), so the unstable trials are
+# caught by the guard before the energy criterion, and sound trials still pass.
 set -uo pipefail
 source "$(dirname "$0")/lib.sh"
 

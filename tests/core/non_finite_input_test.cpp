@@ -1,8 +1,8 @@
-// NaN and infinite input to the core queries (issue 8: injected state is rejected, never propagated): a rigid
-// CCD with a non-finite pose throws one-line sdfccd::Error and leaves no contacts behind; a segment query with a
-// non-finite end point answers Failed (segment_ccd.h) for the grid and the analytic fields; the penalty model
-// rejects a non-finite timestep. The same query with the NaN replaced by a finite value succeeds (the error is
-// about the NaN, not about the setup).
+// NaN and infinite input to the core queries (injected state is rejected, never propagated): a rigid CCD with a
+// non-finite pose throws one-line sdfccd::Error and leaves no contacts behind; a segment query with a non-finite end
+// point answers Failed (segment_ccd.h) for the grid and the analytic fields; the penalty model rejects a non-finite
+// timestep. The same query with the NaN replaced by a finite value succeeds (the error is about the NaN, not about the
+// setup).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 /// @file
-/// @brief OutputFile and checkOutput: each case of the policy by name (issue 14, findings 1, 2 and 4) —
-/// planted links never followed, user-named links followed, modes kept, devices and FIFOs written in place,
-/// an input never overwritten, and no temporary file left by an error, an exception or SIGTERM/SIGINT.
+/// @brief OutputFile and checkOutput: each case of the policy by name — planted links never followed, user-named links
+/// followed, modes kept, devices and FIFOs written in place, an input never overwritten, and no temporary file left by
+/// an error, an exception or SIGTERM/SIGINT.
 #include "sdfccd/output_file.h"
 
 #include <fcntl.h>
@@ -125,9 +125,8 @@ TEST_F(OutputFileTest, TemporaryFileIsPrivateWhileWriting) {
 }
 
 TEST_F(OutputFileTest, PlantedSymlinksInTheFolderAreNeverFollowed) {
-  // The issue's reproduction planted a link at the old predictable name; the names are random now, so plant
-  // links at every name the old scheme used and at guesses of the new one, and check that nothing but the
-  // target changes, in the folder and at the links' destination.
+  // Temporary names are random: plant links at the predictable names (<target>.tmp-<pid>-<n>) and at guesses of
+  // the random ones, and check that nothing but the target changes, in the folder and at the links' destination.
   const std::string victimFolder = at("victims");
   fs::create_directory(victimFolder);
   writeText(victimFolder + "/victim.txt", "precious");

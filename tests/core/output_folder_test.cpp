@@ -1,6 +1,6 @@
 /// @file
-/// @brief OutputFolder: a failed or interrupted run leaves no folder it created empty (issue 14, finding 4),
-/// and never removes a folder that existed or holds a file.
+/// @brief OutputFolder: a failed or interrupted run leaves no folder it created empty, and never removes a folder
+/// that existed or holds a file.
 #include "sdfccd/output_folder.h"
 
 #include <gtest/gtest.h>

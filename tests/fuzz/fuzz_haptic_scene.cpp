@@ -13,7 +13,7 @@
 /// keys (mesh files from the disk are the mesh loader's business, not this reader's) and the procedural
 /// alpha puzzle piece (seconds to generate under the sanitizers), so the mesh-obstacle branch is fuzzed up to
 /// its mesh only. The caps are far above what the reader's logic needs to be exercised, and far below what
-/// makes one run take seconds. Once the reader range-checks these keys itself (issue 14), the caps can grow.
+/// makes one run take seconds. Once the reader range-checks these keys itself, the caps can grow.
 #include <unistd.h>
 
 #include <cmath>

@@ -1,8 +1,8 @@
 /// @file
-/// @brief The device port (issue 16, item 1): a recorded trajectory replays row by row, bit for bit, through the
-/// loop and through a whole session on a player device; an exception in the simulation loop or in the haptic loop
-/// ends the session with the error reported and zero force written on the failing tick and no tick after it, in
-/// virtual time and in real time (short: the real-time cases run under TSan).
+/// @brief The device port: a recorded trajectory replays row by row, bit for bit, through the loop and through a whole
+/// session on a player device; an exception in the simulation loop or in the haptic loop ends the session with the
+/// error reported and zero force written on the failing tick and no tick after it, in virtual time and in real time
+/// (short: the real-time cases run under TSan).
 #include <gtest/gtest.h>
 
 #include <atomic>

@@ -1,5 +1,5 @@
 /// @file
-/// @brief The scene format's "obstacles" list and the tool's "field" (assets/scenes/haptics/README.md): the Fig. 7
+/// @brief The scene format's "obstacles" list and the tool's "field" (docs/scene-format.md): the Fig. 7
 /// scenes load with the paper's roles, and the strict reader rejects bad obstacles with one line naming the key.
 #include <gtest/gtest.h>
 #include <unistd.h>

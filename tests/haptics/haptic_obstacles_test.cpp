@@ -1,9 +1,9 @@
 /// @file
-/// @brief Several obstacles, static or moving, each a field or a point shell (haptic_obstacles.h, issue 16 item 4),
-/// against analytic answers: a tool between two static walls (both methods), a moving wall pushing the tool (the
-/// god-object rides on the wall at sigma, never inside; the penalty object's velocity follows the wall's), a shell
-/// obstacle against the tool's field giving the mirror of the field-vs-shell setup (forces, torques, rows), the
-/// constraint method never penetrating a moving shell obstacle, and the least-distance push.
+/// @brief Several obstacles, static or moving, each a field or a point shell (haptic_obstacles.h), against analytic
+/// answers: a tool between two static walls (both methods), a moving wall pushing the tool (the god-object rides on the
+/// wall at sigma, never inside; the penalty object's velocity follows the wall's), a shell obstacle against the tool's
+/// field giving the mirror of the field-vs-shell setup (forces, torques, rows), the constraint method never penetrating
+/// a moving shell obstacle, and the least-distance push.
 #include "sdfccd/haptics/haptic_obstacles.h"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 /// peg in the matched hole (both methods), the shrunk hole (constraint stops, penalty goes in: Fig. 7),
 /// a fast push onto a thin wire (constraint never penetrates, discrete penalty tunnels: Figs. 11, 12),
 /// a box sliding on a plane, the Fig. 13 pocket (Stuck, never NaN); the real-time two-loop mode; outputs; the
-/// runaway guard (issue 14): an exploding object makes the device render zero force and the loop stop.
+/// runaway guard: an exploding object makes the device render zero force and the loop stop.
 #include "sdfccd/haptics/haptic_session.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 /// @file
-/// @brief The virtual coupling integrated implicitly with the object (issue 16, item 3; implicit_coupling.h) against
-/// analytic backward Euler answers, and the penalty renderer's coherent CCD against the fresh query (issue 17, item 5).
+/// @brief The virtual coupling integrated implicitly with the object (implicit_coupling.h) against analytic
+/// backward Euler answers, and the penalty renderer's coherent CCD against the fresh query.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -127,7 +127,8 @@ TEST(ImplicitCoupling, WithTheDeviceModelTheEmulatorAndObjectAreTwoBodyBackwardE
 }
 
 // The same stiff spring (k h^2 / m_h = 6.7 > 4) with the device frozen in the object's step and integrated explicitly
-// by the emulator (the former scheme) gains energy without bound: what the device's model in the step removes.
+// by the emulator (CouplingIntegration::Explicit) gains energy without bound: what the device's model in the step
+// removes.
 TEST(ImplicitCoupling, StiffCouplingExplicitOnTheDeviceSideGainsEnergy) {
   EXPECT_GT(runTwoBodies(2e6, CouplingIntegration::Explicit, 60).maxEnergyGrowth, 1e3);
   EXPECT_LE(runTwoBodies(2e6, CouplingIntegration::ImplicitWithDevice, 60).maxEnergyGrowth, 1.0);

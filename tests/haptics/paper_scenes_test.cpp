@@ -122,7 +122,7 @@ TEST(AlphaPuzzleSolved, BothMethodsTakeThePiecesApart) {
 }
 
 TEST(AlphaPuzzleSolved, ConstraintMethodAlsoTakesTheUnthinnedPiecesApartInContact) {
-  // The same script against the generator's static piece as it is (no field offset): the hand's path now grazes
+  // The same script against the generator's static piece as it is (no field offset): the hand's path then grazes
   // it, and the god-object slides through the neck in contact without penetrating (the 24-sided meshes are up
   // to 0.0013 units thinner than the round tubes, enough for the 0.003 the round tubes lack).
   std::ifstream in(test::scenePath("alpha-puzzle-solved-small.json"));

@@ -1,8 +1,8 @@
 /// @file
-/// @brief Passivity on the device port (issue 16, item 2): the force-rate limit ramps a step by exactly its limit;
-/// Colgate's bound; a sampled stiff wall pushed for 10 s (virtual time) gains energy without the controller and never
-/// more than the stated bound with it, at Colgate's limit and at 10 times it; the same through a whole
-/// constraint-method session on a plane rendered at those stiffnesses.
+/// @brief Passivity on the device port: the force-rate limit ramps a step by exactly its limit; Colgate's bound; a
+/// sampled stiff wall pushed for 10 s (virtual time) gains energy without the controller and never more than the stated
+/// bound with it, at Colgate's limit and at 10 times it; the same through a whole constraint-method session on a plane
+/// rendered at those stiffnesses.
 #include "sdfccd/haptics/passivity.h"
 
 #include <gtest/gtest.h>

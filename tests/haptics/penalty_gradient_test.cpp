@@ -1,8 +1,8 @@
 /// @file
-/// @brief The penalty renderer's contact gradient (issue 16, item 3): d(contact wrench)/d(pose) against central
-/// finite differences of the end-pose contact wrench summed by brute force over every shell point, for a tilted box
-/// pressed into a plane (its edge and corner points have diagonal shell normals, so the force's direction differs
-/// from the field's normal), with the force along the shell normal (paper) and along the field's gradient.
+/// @brief The penalty renderer's contact gradient: d(contact wrench)/d(pose) against central finite differences of the
+/// end-pose contact wrench summed by brute force over every shell point, for a tilted box pressed into a plane (its
+/// edge and corner points have diagonal shell normals, so the force's direction differs from the field's normal), with
+/// the force along the shell normal (paper) and along the field's gradient.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -70,7 +70,7 @@ void checkGradient(PenaltyDirection direction) {
     return worst;
   };
   EXPECT_LT(worstColumnError(renderer.contactGradient()), 1e-4) << renderer.contactGradient() << "\nFD:\n" << fd;
-  // The former symmetric approximation misses the torque's lever (and, with the shell normal, the force's direction).
+  // The symmetric approximation misses the torque's lever (and, with the shell normal, the force's direction).
   s.consistentGradient = false;
   PenaltyRenderer<PlaneField> former(*scene.tree, *scene.plane, Rigid::Identity(), start, s);
   former.step(device);

@@ -130,7 +130,7 @@ TEST(MeshLoader, BadFilesGiveOneLineErrorsNamingTheFile) {
   const std::string garbage = tempFile("garbage.stl", std::string("\x01\x02 this is not a mesh \xff\xfe", 24));
   const std::string points = tempFile("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   const std::string nan = tempFile("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
-  // The header promises 4 faces, the file lists 2: assimp used to abort inside its triangulation step.
+  // The header promises 4 faces, the file lists 2: an error, never an abort inside assimp's triangulation step.
   const std::string truncated = tempFile("truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n");
   for (const std::string& path :
        {std::string("/nonexistent/mesh.obj"), empty, garbage, points, nan, truncated, ::testing::TempDir()}) {

@@ -128,8 +128,8 @@ std::string readBytes(const std::string& path) {
   return bytes.str();
 }
 
-// Issue 14, finding 10: a damaged entry is never trusted and never crashes the cache: it is reported with one
-// line on stderr naming the file, rebuilt, and overwritten with an intact entry.
+// A damaged entry is never trusted and never crashes the cache: it is reported with one line on stderr naming the
+// file, rebuilt, and overwritten with an intact entry.
 TEST(ModelCache, DamagedEntriesAreReportedThenRebuilt) {
   const std::filesystem::path folder = tempFolder("model_cache_damaged");
   const ModelCache cache(folder.string());

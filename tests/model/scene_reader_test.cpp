@@ -137,8 +137,8 @@ TEST(SceneReader, LoadSceneNamesTheFileInErrorsAndNamesTheScene) {
   std::filesystem::remove_all(dir);
 }
 
-// Issue 14 (findings 6 and 8) and issue 13's bad settings: every number is range-checked before use (integers
-// before any cast), each defect one line naming the key.
+// Absurd magnitudes and bad contact settings: every number is range-checked before use (integers before any cast),
+// each defect one line naming the key.
 TEST(SceneReader, AbsurdAndConflictingSettingsFailNamingTheKey) {
   const std::string box = R"("primitive": { "type": "box", "half_extents": [0.1, 0.1, 0.1] })";
   auto body = [&](const std::string& extra) { return "{ " + box + ", \"mass\": 1.0" + extra + " }"; };
@@ -153,7 +153,7 @@ TEST(SceneReader, AbsurdAndConflictingSettingsFailNamingTheKey) {
       {withBody("", body(", \"resolution\": 1000000000000")), "bodies[0].resolution must be in"},
       {withBody("", body(", \"points\": 1.5")), "bodies[0].points must be an integer"},
       {contact("\"subintervals\": 1e12"), "contact.subintervals"},
-      // Issue 13's settings: negative, conflicting, outside [0, 2].
+      // Contact settings: negative, conflicting, outside [0, 2].
       {contact("\"stiffness\": -1"), "contact.stiffness must be in (0, 1e+09]"},
       {contact("\"stiffness\": 0"), "contact.stiffness"},
       {contact("\"damping\": -0.5"), "contact.damping must be in [0, 1e+06]"},
@@ -169,7 +169,7 @@ TEST(SceneReader, AbsurdAndConflictingSettingsFailNamingTheKey) {
       {contact("\"mode\": \"penalty\", \"solver\": \"mlcp\""), "contact.solver applies to solver mode only"},
       {contact("\"toi_depth_cells\": -1"), "contact.toi_depth_cells"},
       {contact("\"toi_depth_cells\": 1e6"), "contact.toi_depth_cells"},
-      // Absurd magnitudes (finding 6's reproductions and their neighbours).
+      // Absurd magnitudes (values that blow a run up, and their neighbours).
       {contact("\"stiffness\": 1e12"), "contact.stiffness must be in (0, 1e+09] (got 1e+12)"},
       {contact("\"damping\": 1e12"), "contact.damping"},
       {contact("\"friction\": 1e12"), "contact.friction must be in [0, 10]"},
@@ -261,7 +261,7 @@ TEST(RunawayGuard, AllowsWhatPhysicsAllowsAndNamesTheBodyOtherwise) {
   EXPECT_NE(far->find("150 m from the origin"), std::string::npos) << *far;
   EXPECT_TRUE(floatGuard.check(0.0, {{Vec3(NAN, 0, 0), Vec3::Zero()}}, 0.0));
 
-  // Finding 6's resting box on the ground: potential above the lowest point is m g h.
+  // A resting box on the ground: potential above the lowest point is m g h.
   const Scene resting = sceneFromText(
       withBody(R"("effects": ["gravity", "ground"])",
                R"({ "name": "box", "primitive": { "type": "box" }, "mass": 1.0, "position": [0, 0.05, 0] })"));
@@ -284,8 +284,8 @@ TEST(RunawayGuard, AllowsWhatPhysicsAllowsAndNamesTheBodyOtherwise) {
   EXPECT_FALSE(RunawayGuard(off, 0.0).check(0.3, {{Vec3(0, 0.05, 0), Vec3(0, 1e5, 0)}}, 5e9));
 }
 
-// Scene names are data (issue 14, finding 3): the default run folder's name never leaves its parent, never
-// holds a separator, a newline or a control character, and is never ".", ".." or hidden.
+// Scene names are data: the default run folder's name never leaves its parent, never holds a separator, a newline or a
+// control character, and is never ".", ".." or hidden.
 TEST(SceneFolderName, KeepsSafeNamesAndNeutralizesPathsAndControlCharacters) {
   EXPECT_EQ(sceneFolderName("drop-bunnies_2.v1"), "drop-bunnies_2.v1");
   EXPECT_EQ(sceneFolderName("../../../x"), "_._.._.._x");

@@ -57,7 +57,7 @@ void ensureAreas(PointShell& shell, const TriangleMesh& meshInBody, int points) 
   assignUniformAreas(shell, meshInBody.area());
 }
 
-/// The sampled surface of a box primitive (design 2.7), in the body frame.
+/// The sampled surface of a box primitive (docs/design/contact-response.md, default shells), in the body frame.
 PointShell boxPrimitiveShell(const Vec3& halfExtentsInModel, const BodyModelSettings& settings, double cellSize,
                              const Rigid& bodyFromModel) {
   const Vec3 half = halfExtentsInModel * settings.scale;

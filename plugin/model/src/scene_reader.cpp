@@ -16,9 +16,9 @@ using detail::Json;
 using Reader = detail::JsonReader;
 
 // Plausible ranges of scene quantities (SI units). A value outside is a typo or an absurd setting: refused up
-// front with one line naming the key, before it can blow a run up (issue 14, finding 6: stiffness, damping or
-// friction 1e12 and mass 1e-30 ran to 1e9..1e24 J with exit 0; mass 1e30 ended in NaN). Each bound is orders of
-// magnitude beyond the shipped scenes and the textbook tests.
+// front with one line naming the key, before it can blow a run up (stiffness, damping or friction 1e12 or a mass
+// of 1e-30 run to 1e9..1e24 J, a mass of 1e30 ends in NaN). Each bound is orders of magnitude beyond the shipped
+// scenes and the textbook tests.
 constexpr double kMinMass = 1e-6;              // kg (a milligram)
 constexpr double kMaxMass = 1e6;               // kg (a thousand tonnes)
 constexpr double kMinLength = 1e-6;            // m, sizes and scales

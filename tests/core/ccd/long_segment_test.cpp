@@ -1,8 +1,8 @@
 /// @file
-/// @brief GridField::intersectSegment on segments far longer than the field (issue 14, finding 9): the segment
-/// is clipped to the box in double-double before the walk, so a 1e20-long segment reports the contact the short
-/// segment on the same line reports. Before the clip, t had no resolution left for the box and every such
-/// query answered "no hit".
+/// @brief GridField::intersectSegment on segments far longer than the field: the segment is clipped to the box in
+/// double-double before the walk, so a 1e20-long segment reports the contact the short segment on the same line
+/// reports. Without the clip, t would have no resolution left for the box and every such query would answer "no
+/// hit".
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -206,8 +206,8 @@ std::shared_ptr<const SdfGrid> loweredGrid(const SdfGrid& grid, float drop) {
 TEST(RigidCcdCoherence, AnotherFieldOrTreeAtTheSameAddressStartsAfresh) {
   // A per-step local field (or a rebuilt tree) lands at the freed one's address: the history must not take
   // the old object's certificates for the new one's. The lowered field touches where the first one certified
-  // clearance, with the same node count, sigma and gradient bound (what the cache used to key on besides
-  // the address).
+  // clearance, with the same node count, sigma and gradient bound, so only the instance ids (instance_id.h) tell
+  // the two apart.
   std::mt19937 rng(31);
   const test::RandomGridCase c = test::randomGridCase(23, 0, rng);
   const std::shared_ptr<const SdfGrid> high = c.grid.gridPtr();

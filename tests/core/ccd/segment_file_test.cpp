@@ -1,6 +1,6 @@
 /// @file
 /// @brief The segment file of `sdfccd query` (segment_file.h): values, errors naming the line, and the input
-/// bounds (issue 14: `--segments /dev/zero` read until memory ran out).
+/// bounds (`--segments /dev/zero` must not read until memory runs out).
 #include "sdfccd/ccd/segment_file.h"
 
 #include <gtest/gtest.h>

@@ -292,9 +292,9 @@ void expectUnionOfBoxes(const TriangleMesh& mesh, const SdfGrid& g, const std::v
   EXPECT_EQ(wrongSign, 0u) << "of " << insideNodes << " inside nodes";
 }
 
-// Issue 14, finding 7: a closed mesh that intersects itself (two overlapping cubes in one file). The faces of
-// each cube inside the other are buried; nodes closest to them got a positive pseudonormal sign. The automatic
-// sign detects the crossing triangles and uses the winding number: every node inside the union is negative.
+// A closed mesh that intersects itself (two overlapping cubes in one file). The faces of each cube inside the other
+// are buried; nodes closest to them get a positive pseudonormal sign. The automatic sign detects the crossing
+// triangles and uses the winding number: every node inside the union is negative.
 TEST(SdfBuilder, SelfIntersectingCubesAreSignedAsTheirUnion) {
   const std::vector<std::pair<Vec3, Vec3>> boxes = {{Vec3(0.0, 0.0, 0.0), Vec3(0.5, 0.5, 0.5)},
                                                     {Vec3(0.37, 0.21, 0.13), Vec3(0.45, 0.5, 0.4)}};

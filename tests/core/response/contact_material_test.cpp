@@ -1,7 +1,6 @@
 /// @file
-/// @brief Contact material helpers (issue 13 design note, Sections 2.2 and 2.6) against closed forms: zeta(e) and
-/// its inverse, a simulated spring-dashpot that rebounds with e, Bullet's combine rules, the effective mass, and
-/// the stiffness and damping caps.
+/// @brief Contact material helpers (contact_material.h) against closed forms: zeta(e) and its inverse, a simulated
+/// spring-dashpot that rebounds with e, Bullet's combine rules, the effective mass, and the stiffness and damping caps.
 #include "sdfccd/response/contact_material.h"
 
 #include <gtest/gtest.h>

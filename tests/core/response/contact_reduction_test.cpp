@@ -1,7 +1,7 @@
 /// @file
-/// @brief Contact reduction (issue 13 design note, Section 3.1 item 4): a flat patch reduces to its corners (and
-/// its deepest point), two faces of a box give two clusters, hysteresis keeps the same points under jitter,
-/// leftovers join the nearest cluster, at most 4 candidates are all kept, and the input order does not matter.
+/// @brief Contact reduction (contact_reduction.h): a flat patch reduces to its corners (and its deepest point), two
+/// faces of a box give two clusters, hysteresis keeps the same points under jitter, leftovers join the nearest cluster,
+/// at most 4 candidates are all kept, and the input order does not matter.
 #include "sdfccd/response/contact_reduction.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 /// @file
-/// @brief Stick–slip anchors (issue 13 design note, Section 2.4) against analytic answers: a held point keeps its
-/// anchor bit for bit (no creep over 10,000 steps), a loaded point slips at exactly mu F_n, the 1-DOF block
-/// under a tilted load sticks below atan mu and slides at g (sin theta - mu cos theta), and the table keeps,
-/// creates and drops anchors as points enter and leave.
+/// @brief Stick–slip anchors (friction_anchor.h) against analytic answers: a held point keeps its anchor bit for bit
+/// (no creep over 10,000 steps), a loaded point slips at exactly mu F_n, the 1-DOF block under a tilted load sticks
+/// below atan mu and slides at g (sin theta - mu cos theta), and the table keeps, creates and drops anchors as points
+/// enter and leave.
 #include "sdfccd/response/friction_anchor.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 /// @file
-/// @brief Point areas of shells (issue 13 design note, Section 2.1): every builder's areas sum to the surface's
-/// area (meshes: TriangleMesh::area(); analytic shapes: the closed forms), vertex areas are barycentric, loaded
-/// shells get theirs from assignUniformAreas, and validate() rejects bad areas.
+/// @brief Point areas of shells (stiffness per unit area, point_shell.h): every builder's areas sum to the surface's
+/// area (meshes: TriangleMesh::area(); analytic shapes: the closed forms), vertex areas are barycentric, loaded shells
+/// get theirs from assignUniformAreas, and validate() rejects bad areas.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -46,9 +46,9 @@ TEST(ShellParse, FromMemoryEqualsFromFile) {
   EXPECT_NE(parseError("x,y,z,nx,ny,nz\n", "shell.obj").find("unknown shell format"), std::string::npos);
 }
 
-// Found by the fuzzer: a 200-byte PLY whose header claims 150 million points made the reader reserve 3.6 GB
-// before finding the truncation (libFuzzer: out-of-memory). Now the count only bounds the loop: the file is
-// rejected as truncated, at once. (The memory bound itself is checked by the fuzzer's -rss_limit_mb.)
+// A 200-byte PLY whose header claims 150 million points: the count only bounds the loop, it never sizes a
+// reservation (3.6 GB before the truncation is found), so the file is rejected as truncated, at once. (The memory
+// bound itself is checked by the fuzzer's -rss_limit_mb.)
 TEST(ShellParse, HugeVertexCountInATinyFileIsTruncatedNotAllocated) {
   const std::string header =
       "ply\nformat ascii 1.0\nelement vertex 150000000\nproperty double x\nproperty double y\n"

@@ -110,14 +110,14 @@ inline constexpr int kMaxNarrowphaseThreads = 1024;
 struct SdfccdContactSettings {
   /// Penalty (the paper's model) or Solver (speculative manifold points answered by Bullet's solver; see
   /// solver_contacts.cpp). Solver by default: on the 20-bunny drop it has the larger stable step at a lower cost
-  /// (`sdfccd bench bullet --part modes,stable`, README "Contact response").
+  /// (`sdfccd bench bullet --part modes,stable`; docs/bullet.md, docs/benchmarks.md).
   SdfccdContactMode mode = SdfccdContactMode::Solver;
   /// Solver mode: CCD level set and speculative reach, in cells of the field, capped at maxSpeculativeMargin.
   double speculativeMarginCells = 0.5;
   double maxSpeculativeMargin = 0.002;              ///< m (model units)
   ForceTiming forceTiming = ForceTiming::SameStep;  ///< see ForceTiming
   /// Model (continuous/discrete), stiffness per area (or per point), damping ratio (or per point), direction,
-  /// friction law; new worlds get PenaltySettings::trustworthy() (issue 13).
+  /// friction law; new worlds get PenaltySettings::trustworthy().
   PenaltySettings penalty = PenaltySettings::trustworthy();
   bool timeOfImpactClamp = true;         ///< continuous model only: clamp bodies at first hits (see file comment)
   double toiDepthCells = 0.5;            ///< clamp when an entering point ends deeper than this (field cells)
@@ -134,7 +134,7 @@ struct SdfccdContactSettings {
   /// discarded, and timed into SdfccdContactStatistics::shadowLinearSeconds (paper Table 4: linear vs tree
   /// on the very same motion). 0: off.
   int shadowLinearEvery = 0;
-  /// Narrowphase threads (issue 17): the CCD of the step's pairs of our shapes (and of ours against ground
+  /// Narrowphase threads: the CCD of the step's pairs of our shapes (and of ours against ground
   /// planes), both roles, runs on a persistent pool of this many threads (sdfccd_parallel_step.cpp); 0: the
   /// machine's hardware threads; 1: on the stepping thread. Results are bit-identical for every value. The pool's
   /// threads (this many minus the stepping thread) start at the first step with queries and stay parked between
@@ -187,8 +187,8 @@ struct SdfccdContactStatistics {
   std::int64_t ccdQueries = 0;        ///< rigid CCD queries (two per body pair and step)
   std::int64_t segmentQueries = 0;    ///< segment queries inside them
   std::int64_t clamps = 0;            ///< bodies moved back to a time of impact
-  std::int64_t kinematicPushes = 0;   ///< clamps against a kinematic body (no rewind; design 2.5)
-  std::int64_t softenedPairs = 0;     ///< roles whose stiffness the omega dt cap softened (design 2.2)
+  std::int64_t kinematicPushes = 0;   ///< clamps against a kinematic body (no rewind; time_of_impact_clamp.h)
+  std::int64_t softenedPairs = 0;     ///< roles whose stiffness the omega dt cap softened (contact_material.h)
   std::int64_t unsupportedPairs = 0;  ///< processPair calls for pairs we do not handle (no contact)
   /// processPair calls skipped because a body's pose, velocity or motion was NaN or infinite: such a body
   /// gets no contact, so nothing non-finite reaches the other body (SceneWorld rejects it before the step).

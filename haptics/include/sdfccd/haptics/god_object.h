@@ -61,7 +61,7 @@
 /// |d_a| <= dT_a + |rotation part|_a, so phi changed by at most sum_a G_a dT_a + |G| dR |point - centre| along the
 /// straight path, which stays within the block's reach while sum_a dT_a + dR |point - centre| does. A point whose
 /// scalar budget ran out is kept skipped while that bound stays below its clearance: sliding along an axis-aligned
-/// wall (G along it ~0: the peg in its hole) no longer uses the clearance up.
+/// wall (G along it ~0: the peg in its hole) does not use the clearance up.
 ///
 /// Several obstacles (the ObstacleContacts constructor, haptic_obstacles.h): steps 5 and 6 (and the discrete variant's
 /// candidates) gather from every obstacle's pair instead of the one field, the rows in the same form; a cycle whose

@@ -1,7 +1,6 @@
 /// @file
 /// @brief Several obstacles of a haptic scene, each a field or a point shell, static or moving along a scripted
-/// pose, and how both haptic methods gather their contacts with the manipulated tool (paper Section 5; issue 16
-/// item 4).
+/// pose, and how both haptic methods gather their contacts with the manipulated tool (paper Section 5).
 ///
 /// @details Every obstacle is one (shell, field) pair with the tool:
 /// - a field obstacle (grid, CSG, mesh or plane) against the tool's point shell;

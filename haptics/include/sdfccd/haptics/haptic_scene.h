@@ -20,7 +20,7 @@
 /// cavity (the stuck case of Fig. 13) is one hole. Shells come from the procedural meshes (box, cylinder, icosphere),
 /// sampled by particle repulsion (point_shell.h).
 ///
-/// File format: see assets/scenes/haptics/README.md.
+/// File format: see docs/scene-format.md.
 #pragma once
 
 #include <memory>

@@ -6,7 +6,7 @@
 /// held only to copy a value of a few hundred bytes (well under a microsecond), never while computing.
 /// A seqlock would avoid the lock, but in C++ it is only free of data races (and TSan-clean) when every
 /// payload word is itself an atomic; at a 1 kHz reader and a few-kHz writer, the uncontended mutex costs
-/// ~20 ns and is correct by construction. The sequence number tells a reader whether the value is new.
+/// tens of nanoseconds and is correct by construction. The sequence number tells a reader whether the value is new.
 ///
 /// Thread safety: any number of publishers and readers.
 #pragma once

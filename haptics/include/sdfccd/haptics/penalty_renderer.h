@@ -69,8 +69,8 @@ struct PenaltyRendererSettings {
   /// With coherentCcd: certificates that split the motion per axis of the field (axis_lipschitz_bounds.h), so that
   /// sliding along an axis-aligned wall does not use up a point's clearance; the same contacts bit for bit.
   bool axisCertificates = true;
-  /// How the coupling enters the step and what the device is rendered (implicit_coupling.h): Explicit (default, the
-  /// former scheme: the device frozen for the tick, rendered the coupling at the tick's start), Implicit (the
+  /// How the coupling enters the step and what the device is rendered (implicit_coupling.h): Explicit (default: the
+  /// device frozen for the tick, rendered the coupling at the tick's start), Implicit (the
   /// paper's admittance mode: rendered the coupling at the end of the object's implicit step) or ImplicitWithDevice
   /// (the device's dynamics, `deviceModel`, in the same backward Euler step). Both implicit modes need `implicit`.
   CouplingIntegration couplingIntegration = CouplingIntegration::Explicit;

@@ -13,7 +13,7 @@
 ///   - chatter: over the last `tailSeconds` of the run the object's velocity changes sign along some axis in more
 ///     than `maxReversalFraction` of the ticks while moving faster than 1 mm/s (a stable object slides or rests).
 /// The sweep walks k up a geometric ladder until two rungs in a row are unstable and returns the last stable k below
-/// them. Why two: in the peg, stability is not monotone in k (measured: the continuous model fails at 7.9e6 N/m, is
+/// them. Why two: in the peg, stability is not monotone in k (e.g. the continuous model fails at 7.9e6 N/m, is
 /// stable from 1e7 to 1.6e7 and fails from 2e7 on; the discrete one fails at 1.6e7 and is stable at 2e7 and 2.5e7):
 /// a failure is a rare event of one trajectory (a line of points hitting a wall in one tick), so a single unstable
 /// rung is counted as isolated (isolatedFailures) and the sweep goes on.

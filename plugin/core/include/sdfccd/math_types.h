@@ -29,8 +29,8 @@ struct Interval {
   double end = 0.0;    ///< fraction of the step where the interval ends (>= begin)
 };
 
-/// Every one of the n values finite: Eigen's allFinite() (the same answer) in plain scalar code, which Eigen's was
-/// not (out of line) in the per-pair and per-sample checks of a pile's many contacts.
+/// Every one of the n values finite: Eigen's allFinite() (the same answer) in plain scalar code that inlines, where
+/// Eigen's is an out-of-line call, in the per-pair and per-sample checks of a pile's many contacts.
 inline bool finiteValues(const double* v, int n) {
   for (int k = 0; k < n; ++k) {
     if (!std::isfinite(v[k])) return false;

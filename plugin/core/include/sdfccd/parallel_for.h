@@ -1,9 +1,9 @@
 /// @file
 /// @brief parallelFor: run a loop body over [0, count) on worker threads, dynamically load-balanced.
 ///
-/// @details Written on std::thread rather than TBB so that sdfccd::core depends on Eigen alone (the
-/// foundation issue asks for that); the loops it serves are coarse (blocks of grid nodes, subtrees), so a
-/// shared atomic counter is all the scheduling they need.
+/// @details Written on std::thread rather than TBB so that sdfccd::core depends on Eigen alone
+/// (docs/architecture.md); the loops it serves are coarse (blocks of grid nodes, subtrees), so a shared atomic
+/// counter is all the scheduling they need.
 #pragma once
 
 #include <algorithm>

@@ -30,9 +30,9 @@ constexpr std::uint64_t kAscentPeriod = 8;
 /// the first request, kept while a history holds them (rigid_ccd.cpp; thread safe).
 std::shared_ptr<const RigidCcdCoherence::TreeTables> rigidCcdTreeTables(const PointTree& tree);
 
-/// ||R_a - R_b||_F, in plain scalar code: Eigen's reduction over the blocks of the 4x4 matrices was not inlined and
-/// was most of the whole-front test's cost in a pile of bodies (a bound with the certificates' slack: its rounding
-/// need not match any other evaluation).
+/// ||R_a - R_b||_F, in plain scalar code that inlines: Eigen's reduction over the blocks of the 4x4 matrices is an
+/// out-of-line call, on the whole-front test that a pile of bodies runs for most pairs (a bound with the
+/// certificates' slack: its rounding need not match any other evaluation).
 inline double rotationDistance(const Rigid& a, const Rigid& b) {
   double sum = 0.0;
   for (int c = 0; c < 3; ++c) {
@@ -44,8 +44,8 @@ inline double rotationDistance(const Rigid& a, const Rigid& b) {
   return std::sqrt(sum);
 }
 
-/// Every entry of the pose finite: matrix().allFinite(), the same answer, in scalar code (finiteValues): Eigen's was
-/// a quarter of the whole-front test that most pairs of a pile end at (coherentFrontClear).
+/// Every entry of the pose finite: matrix().allFinite(), the same answer, in scalar code (finiteValues) that
+/// inlines where Eigen's does not, on the whole-front test that most pairs of a pile end at (coherentFrontClear).
 inline bool finitePose(const Rigid& pose) {
   return finiteValues(pose.data(), 16);
 }
@@ -114,7 +114,7 @@ bool coherenceMatches(const RigidCcdCoherence& c, const PointTree& tree, const F
 /// The whole-front test: true when every front entry's certificate holds for the step [start, end], checked once
 /// against the newest kept pose r on the front's folded bound (RigidCcdCoherence::FrontBound) instead of entry by
 /// entry and pose by pose. An entry e at pose k moves at most rot_k reach(e) + trans_k, and by the triangle
-/// inequality rot_k <= rot_r + ||R_r - R_k||_F and trans_k <= trans_r + |t_r - t_k|; the fold took the second
+/// inequality rot_k <= rot_r + ||R_r - R_k||_F and trans_k <= trans_r + |t_r - t_k|; the fold takes the second
 /// terms off each entry's slack, so with maxReach >= reach(e) and minSlack <= room(e) / kBoundGrowth - radius(e) -
 /// (||R_r - R_k||_F reach(e) + |t_r - t_k|),
 ///   (rotation_r maxReach + translation_r) kBoundGrowth < minSlack

@@ -39,7 +39,7 @@ struct RigidCcdScratch {
   SegmentCcdResult segment;
   // The coherent query's (rigid_ccd_coherent.h) buffers of one query: per thread, not per history, so that a
   // pile's ~2,000 histories a step write their new fronts into memory this thread has just used (a buffer per
-  // history was cold at every query, a step after its last use), and each history keeps only what lasts.
+  // history would be cold at every query, a step after its last use), and each history keeps only what lasts.
   std::vector<RigidCcdCoherence::Entry> front;  // the new front, copied into the history at the end
   std::vector<int> stack;                       // the fresh traversal below a node
   std::vector<double> rotation;                 // per kept pose (CoherentQuery's members of the same names)
@@ -334,9 +334,9 @@ class RigidCcdQuery {
         out.contacts.clear();  // the search below collects every point at fraction 0, this one included
       }
       // Depth-first branch and bound: a descent reaches a first contact quickly, and every later node and point
-      // is tested only up to the best contact so far, which makes their walks short. (Measured on Table 3, it
-      // beats a best-first search on the nodes' bounds: that one tests fewer nodes, but most of them before a
-      // good bound is known.)
+      // is tested only up to the best contact so far, which makes their walks short. (On Table 3 it beats a
+      // best-first search on the nodes' bounds: that one tests fewer nodes, but most of them before a good bound
+      // is known.)
       std::vector<NodeTask>& stack = scratch.current;
       stack.clear();
       stack.push_back({0, 0.0});

@@ -2,7 +2,7 @@
 /// @brief Native binary and SDFGen text SDF files: detection, validation, atomic writing.
 ///
 /// @details The checksum is the project's 64-bit FNV-1a (sdfccd/fnv1a.h): sdfccd::core depends on Eigen alone
-/// (foundation issue), so zlib's crc32 is not available.
+/// (docs/architecture.md), so zlib's crc32 is not available.
 /// Bytes are assembled explicitly as little-endian, so files are portable whatever the host's byte order.
 #include "sdfccd/field/sdf_file.h"
 

@@ -5,7 +5,7 @@
 /// @details The pseudonormal sign is exact on a closed, consistently oriented mesh that does not intersect
 /// itself. A closed mesh can still intersect itself (two overlapping cubes exported as one mesh) or hold
 /// nested shells of the same orientation; there a node's closest feature may be a face buried inside the
-/// solid and the pseudonormal says "outside" (issue 14: 493 of 1,875 inside nodes of two overlapping cubes).
+/// solid and the pseudonormal says "outside" (about a quarter of the inside nodes of two overlapping cubes).
 /// The generalized winding number is right on such meshes (>= 1 inside the union). So the automatic choice
 /// checks the mesh first: any strictly crossing pair of triangles, or any block of nodes away from the surface
 /// whose pseudonormal sign disagrees with the winding number at its centre, switches the build to the

@@ -1,6 +1,6 @@
 /// @file
 /// @brief Damping ratio from restitution, Bullet's material combine rules and the per-pair stability caps (see
-/// contact_material.h; issue 13 design note, Sections 2.2 and 2.6).
+/// contact_material.h).
 #include "sdfccd/response/contact_material.h"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 /// @file
-/// @brief Normal clustering and 4-point area reduction with hysteresis (see contact_reduction.h; issue 13 design
-/// note, Section 3.1 item 4).
+/// @brief Normal clustering and 4-point area reduction with hysteresis (see contact_reduction.h;
+/// docs/design/contact-response.md, solver mode).
 #include "sdfccd/response/contact_reduction.h"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 /// @file
-/// @brief Stick–slip Coulomb anchors per shell point (see friction_anchor.h; issue 13 design note, Section 2.4).
+/// @brief Stick–slip Coulomb anchors per shell point (see friction_anchor.h).
 #include "sdfccd/response/friction_anchor.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 /// @file
 /// @brief The penalty model (Section 4.1, eqs. 3-5; see penalty_model.h), instantiated for every field type of
 /// field_interface.h; beyond the paper: per-area stiffness with per-pair caps, the Blend direction and anchor
-/// friction (issue 13 design note, 2.1-2.4).
+/// friction (docs/design/contact-response.md, penalty mode).
 #include "sdfccd/response/penalty_model.h"
 
 #include <algorithm>
@@ -84,10 +84,11 @@ void checkPenaltyInput(std::size_t pointCount, const RigidCcdResult& ccd, double
 
 namespace {
 
-/// Tangential damping c_t = share * c_i (design 2.4 takes c_t = c_i). The caps bound only the normal mode; with
-/// the full c_i the rocking mode of a resting box, damped by the normal and the tangential dampers together
-/// (lever arms: half its width and its half height), overshoots the explicit limit at zeta = 1 and 1 ms (a
-/// compound of two 10 cm boxes diverged with a period of 2 steps); half is stable and still holds the anchor.
+/// Tangential damping c_t = share * c_i (the anchor's design takes c_t = c_i: docs/design/contact-response.md,
+/// static friction). The caps bound only the normal mode; with the full c_i the rocking mode of a resting box,
+/// damped by the normal and the tangential dampers together (lever arms: half its width and its half height),
+/// overshoots the explicit limit at zeta = 1 and 1 ms (a compound of two 10 cm boxes diverges with a period of 2
+/// steps); half is stable and still holds the anchor.
 constexpr double kTangentialDampingShare = 0.5;
 
 // The sampling loop's vector arithmetic (penalty_vector_ops.h).
@@ -361,13 +362,13 @@ SDFCCD_FORCE_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPoint
 }
 
 /// The pair's damping as Rayleigh (stiffness-proportional) damping of its elastic wrench W (per-area law,
-/// continuous model; README "Contact response"). The per-point dampers c_i v_n,i are stiffness-proportional
+/// continuous model; docs/design/contact-response.md). The per-point dampers c_i v_n,i are stiffness-proportional
 /// (c_i = beta k_i), so their force is beta times the rate of change of the elastic force; their torque,
 /// h x (beta d/dt f), misses the part of beta d/dt (h x f) that comes from the handle h moving, beta (dh/dt x f)
 /// (the lever term; dh_shell/dt = w_s x h_s for the shell's material point, dh_field/dt = v_point - v_com,field).
 /// Without it a patch that travels through the shell is damped as if it deformed: on a rolling sphere the points
 /// enter in front and leave behind and W stays constant, yet the dampers push harder on the approaching front
-/// than on the receding back and brake the roll (measured a = 0.69 of 5/7 g sin theta). With it the pair's
+/// than on the receding back and brake the roll (to a = 0.69 of 5/7 g sin theta). With it the pair's
 /// damping is beta dW/dt: it damps what changes the wrench (approach, bounce, rocking), not a steady roll. For
 /// that sum to hold, a point's damper is not clamped at zero on its own (a receding point may pull) but the
 /// pair's: damping never takes more than the pair's elastic impulse along its direction (finishPairDamping).
@@ -539,7 +540,7 @@ PairResponseCoefficients perAreaCoefficientsImpl(const std::vector<Vec3>& points
   Vec3 normalSum = Vec3::Zero();
   const Mat3 worldFromSdfEnd = fieldBody.worldFromSdfEnd.linear();
   const Rigid sdfFromWorldEnd = fieldBody.worldFromSdfEnd.inverse();
-  // Sized once, filled by index: a push_back per contact was a call.
+  // Sized once, filled by index: a push_back per contact would be an out-of-line call.
   if (endLookups != nullptr) endLookups->resize(ccd.contacts.size());
   for (std::size_t n = 0; n < ccd.contacts.size(); ++n) {
     const std::size_t i = static_cast<std::size_t>(ccd.contacts[n].point);

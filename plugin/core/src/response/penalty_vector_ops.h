@@ -1,7 +1,7 @@
 /// @file
 /// @brief The penalty sampling loop's vector arithmetic written out component by component (penalty_model.cpp):
 /// the very operations, in the very order, of the Eigen expressions they replace on this build, so the same bits,
-/// and forced inline (Eigen's were calls there). Private to the core.
+/// and forced inline (Eigen's are out-of-line calls there). Private to the core.
 #pragma once
 
 #include "inline_vector_ops.h"
@@ -51,7 +51,7 @@ struct LinearMat3 {
 };
 
 /// io += v, io -= v, io += s v and io -= s v, component by component (the operations of Eigen's compound assignments,
-/// one of which was a call in the sampling loop).
+/// one of which is an out-of-line call in the sampling loop).
 SDFCCD_FORCE_INLINE void addTo(Vec3& io, const Vec3& v) {
   io = Vec3(io.x() + v.x(), io.y() + v.y(), io.z() + v.z());
 }

@@ -1,7 +1,7 @@
 /// @file
 /// @brief RenderScene: what one offscreen frame shows (bodies at their poses, the ground, point shells, camera).
 ///
-/// @details Validation pictures for headless runs (issue 6). A scene is plain data: meshes shared by pointer
+/// @details Validation pictures for headless runs. A scene is plain data: meshes shared by pointer
 /// (20 bodies of one bunny share one TriangleMesh), each body's world pose and uniform scale, an optional ground
 /// plane y = height with a grid (the simulation's up axis is +y: gravity is (0, -g, 0)), optional point sets
 /// coloured by penetration depth so contacts stand out, and an optional camera. Without a camera the renderer

@@ -1,7 +1,7 @@
 /// @file
 /// @brief Reading and writing grid SDFs: the native binary format and the plain-text SDFGen layout.
 ///
-/// @details Native format (little-endian, documented in README "Native SDF file format"):
+/// @details Native format (little-endian, documented in docs/file-formats.md):
 /// a 64-byte header (magic "SDFCCD\0\1", version, node counts, origin, spacing, value count), the values as
 /// float32 with i fastest, then a 64-bit FNV-1a checksum of header and values.
 /// SDFGen text: line 1 `ni nj nk`, line 2 the origin `x y z`, line 3 the spacing `dx`, then ni*nj*nk values

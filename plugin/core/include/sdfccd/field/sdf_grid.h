@@ -52,7 +52,7 @@ class SdfGrid {
   std::size_t memoryBytes() const { return m_values.size() * sizeof(float); }
 
   // The point queries below are defined inline (after the class): every CCD node test, certificate and penalty
-  // sample runs them, and a call per step of each cost more than its arithmetic (profiles of issue 17).
+  // sample runs them, and a call per step of each would cost more than its arithmetic.
 
   /// True when `pointInSdf` lies in the closed box of the field.
   bool contains(const Vec3& pointInSdf) const;

@@ -1,6 +1,7 @@
 /// @file
-/// @brief Contact material and per-pair stability caps for the penalty response (issue 13 design note, Sections
-/// 2.2 and 2.6; beyond the paper, whose Section 4.1 takes a fixed stiffness and damping per point).
+/// @brief Contact material and per-pair stability caps for the penalty response (docs/design/contact-response.md,
+/// damping and stability caps, per-body material; beyond the paper, whose Section 4.1 takes a fixed stiffness and
+/// damping per point).
 ///
 /// @details Pure functions, no Bullet, no state:
 /// - damping ratio from restitution, zeta(e) = -ln e / sqrt(pi^2 + ln^2 e) (zeta(0) = 1, critical), and back,
@@ -40,7 +41,7 @@ double combineRestitution(double restitutionA, double restitutionB);
 double inverseEffectiveMassTerm(double inverseMass, const Mat3& inverseInertiaInWorld, const Vec3& leverArmInWorld,
                                 const Vec3& normalInWorld);
 
-/// The caps of design 2.2.
+/// The per-pair stability caps (docs/design/contact-response.md, damping and stability caps).
 struct StabilityCapSettings {
   double maxOmegaDt = 0.7;    ///< Omega_max: largest omega dt of a pair (dimensionless, > 0)
   double maxDampingDt = 1.0;  ///< largest C dt / m_eff of a pair (dimensionless, in (0, 2))
@@ -65,7 +66,7 @@ struct PairResponseCoefficients {
   bool dampingCapped = false;        ///< the damping cap acted
 };
 
-/// The pair's coefficients for one step (design 2.2): totalStiffness K = sum of the pair's k_i (N/m, >= 0),
+/// The pair's coefficients for one step (the caps above): totalStiffness K = sum of the pair's k_i (N/m, >= 0),
 /// inverseEffectiveMass (1/kg, >= 0; 0 when no body of the pair is dynamic: no cap, no damping), dampingRatio
 /// zeta (dimensionless, [0, 2]), timeStep dt (s, > 0).
 PairResponseCoefficients pairResponseCoefficients(double totalStiffness, double inverseEffectiveMass,

@@ -1,6 +1,6 @@
 /// @file
-/// @brief SdfccdContactMode: who answers the CCD's contacts (issue 13, design note Section 3; the penalty mode is the
-/// paper's Section 4.1, the solver mode is beyond the paper).
+/// @brief SdfccdContactMode: who answers the CCD's contacts (docs/bullet.md; the penalty mode is the paper's
+/// Section 4.1, the solver mode is beyond the paper: docs/design/contact-response.md).
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 /// @file
 /// @brief Contact reduction for solver mode: many point-vs-field contacts of one pair become at most 4 manifolds
-/// of at most 4 points (issue 13 design note, Section 3.1 item 4; beyond the paper, whose penalty model uses
+/// of at most 4 points (docs/design/contact-response.md, solver mode; beyond the paper, whose penalty model uses
 /// every contact).
 ///
 /// @details Two stages, both deterministic (ties are broken by the smaller point id, never by input order):

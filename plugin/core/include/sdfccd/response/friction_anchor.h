@@ -1,6 +1,7 @@
 /// @file
-/// @brief Static friction that holds: an elastic–plastic (stick–slip) Coulomb anchor per shell point (issue 13
-/// design note, Section 2.4; beyond the paper, whose Section 4.1 friction is regularized and creeps).
+/// @brief Static friction that holds: an elastic–plastic (stick–slip) Coulomb anchor per shell point
+/// (docs/design/contact-response.md, static friction; beyond the paper, whose Section 4.1 friction is regularized
+/// and creeps).
 ///
 /// @details Each shell point in contact is tied to an anchor, a point fixed in the field body's frame where the
 /// point first touched. At a sample the tangential stretch s (point minus anchor, normal part removed) gives
@@ -136,7 +137,7 @@ struct AnchorMatchResult {
   int dropped = 0;  ///< points no longer in contact, anchor forgotten
 };
 
-/// The anchors of one pair and role, sorted by point index (design 2.4: lives in the pair's state, dies with it).
+/// The anchors of one pair and role, sorted by point index (lives in the pair's state, dies with it).
 ///
 /// Use per step: match(contacts) (or beginMatch(), matchNext() per contact in increasing point order,
 /// endMatch()); then anchors()[i] is contact i's anchor: sample with tangentialForce(), and at the end of the

@@ -61,8 +61,8 @@ enum class PenaltyDirection : std::uint8_t {
   ShellNormal,    ///< the shell point's outward normal (paper, Section 4.1)
   FieldGradient,  ///< minus the field's normalized gradient at the point: conservative (beyond the paper)
   /// The gradient while shallow, blended to the shell normal between blendStartCells and blendEndCells of depth
-  /// (smoothstep): conservative in resting and sliding contact, the paper's direction in deep impacts (issue 13
-  /// design note, 2.3).
+  /// (smoothstep): conservative in resting and sliding contact, the paper's direction in deep impacts
+  /// (docs/design/contact-response.md, force direction).
   Blend,
 };
 
@@ -91,12 +91,12 @@ struct PenaltySettings {
   double blendStartCells = 1.0;  ///< Blend: depth (field cells) where the shell normal starts to take over
   double blendEndCells = 2.0;    ///< Blend: depth (field cells) from which the shell normal alone is used
   FrictionModel frictionModel = FrictionModel::Regularized;  ///< tangential law (with enableFriction)
-  /// Stiffness per unit shell area k_A (N/m^3; issue 13 design note, 2.1). > 0: k_i = s_r k_A A_i from the shell's
-  /// point areas (s_r = roleScale), capped per pair and step (caps), and `stiffness` is not used. 0: the paper's
-  /// per-point `stiffness`, uncapped.
+  /// Stiffness per unit shell area k_A (N/m^3; docs/design/contact-response.md). > 0: k_i = s_r k_A A_i from the
+  /// shell's point areas (s_r = roleScale), capped per pair and step (caps), and `stiffness` is not used. 0: the
+  /// paper's per-point `stiffness`, uncapped.
   double stiffnessPerArea = 0.0;
   double roleScale = 1.0;  ///< s_r: 1/2 when the pair runs both roles (each interface counted twice), else 1
-  /// Damping from a damping ratio zeta (dimensionless, [0, 2]) of the pair's spring (design 2.2):
+  /// Damping from a damping ratio zeta (dimensionless, [0, 2]) of the pair's spring (contact_material.h):
   /// c_i = 2 zeta k_i sqrt(m_eff / K), capped. Needs the bodies' masses (ShellMotion/FieldMotion); < 0: the
   /// per-point `damping`.
   double dampingRatio = -1.0;
@@ -106,7 +106,7 @@ struct PenaltySettings {
   bool frictionFromBodies = false;
   StabilityCapSettings caps;  ///< per-area law only: omega dt and C dt / m_eff caps per pair and step
 
-  /// The defaults of new Bullet worlds and scenes (issue 13): k_A = 1e7 N/m^3, zeta = 1 (Bullet: from the pair's
+  /// The defaults of new Bullet worlds and scenes: k_A = 1e7 N/m^3, zeta = 1 (Bullet: from the pair's
   /// restitution), Blend direction, anchor friction on, mu = 0.5 until the pair's material says otherwise.
   static PenaltySettings trustworthy() {
     PenaltySettings s;
@@ -193,7 +193,7 @@ struct PenaltyResult {
   std::int64_t dampingEvaluations = 0;
   std::int64_t torqueEvaluations = 0;
   std::int64_t frictionEvaluations = 0;
-  bool stiffnessCapped = false;  ///< per-area law: the omega dt cap softened this pair (design 2.2)
+  bool stiffnessCapped = false;  ///< per-area law: the omega dt cap softened this pair (contact_material.h)
   int slippingPoints = 0;        ///< anchor friction: points whose anchor slipped at the step's end
 };
 
@@ -206,7 +206,7 @@ struct PenaltyRoleInput {
   FrictionAnchorTable* anchors = nullptr;      ///< io: this pair and role's anchors (FrictionModel::Anchor)
 };
 
-/// The per-area law's coefficients for one pair and role (design 2.1, 2.2): sums k_i = s_r k_A A_i over the
+/// The per-area law's coefficients for one pair and role (stiffness per area, caps): sums k_i = s_r k_A A_i over the
 /// contacts, takes m_eff along the contacts' mean field normal at their centroid and applies the caps
 /// (contact_material.h). `pairStiffnessFactor` turns the role's K into the pair's (1 / s_r: the other role
 /// is taken as its mirror). Fills `io.stiffnessPerArea` and `io.dampingPerStiffness`; returns the caps' result.

@@ -1,7 +1,7 @@
 /// @file
-/// @brief The time-of-impact clamp's decisions and its inelastic impact, Bullet-free (beyond the paper; issue 13
-/// items 2 and 5, design note 2.5): what a pair whose points entered too deep during a step does, and the
-/// sequential impulses that remove the approaching normal velocity at the entering points.
+/// @brief The time-of-impact clamp's decisions and its inelastic impact, Bullet-free (beyond the paper;
+/// docs/design/contact-response.md, kinematic bodies): what a pair whose points entered too deep during a step
+/// does, and the sequential impulses that remove the approaching normal velocity at the entering points.
 ///
 /// @details Policy, decided here:
 /// - a pair of two bodies that may move back (dynamic, awake) is rewound to the earliest deep entry

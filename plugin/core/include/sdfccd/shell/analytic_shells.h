@@ -11,7 +11,7 @@
 /// - capsule: rings on the cylinder (the caps' rims included) and a Fibonacci half spiral on each cap.
 /// If the spacing would give more than `maxPoints` points it is grown until it does not. Deterministic.
 ///
-/// Point areas (issue 13 design note, Section 2.1) sum to the closed-form surface area: box points carry their
+/// Point areas (stiffness per unit area: point_shell.h) sum to the closed-form surface area: box points carry their
 /// trapezoid-rule share of each face they lie on (edges and corners share several faces); sphere and cap
 /// spiral points carry equal-area bands (4 pi r^2 / N); capsule ring points share 2 pi r (2 halfHeight) by the
 /// trapezoid rule along the axis, and a capsule with halfHeight = 0 shares 4 pi r^2 evenly.

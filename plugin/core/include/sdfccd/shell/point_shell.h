@@ -12,7 +12,7 @@
 ///   the result does not depend on the thread count.
 /// Shell files: ascii PLY (x y z nx ny nz per vertex) or CSV ("x,y,z,nx,ny,nz" header), chosen by extension.
 ///
-/// Point areas (issue 13 design note, Section 2.1: stiffness per unit area, k_i = k_A A_i): every builder fills
+/// Point areas (stiffness per unit area, k_i = k_A A_i: docs/design/contact-response.md): every builder fills
 /// `areas`, the surface area each point stands for, summing to the surface's area:
 /// - shellFromVertices(): the barycentric vertex area, 1/3 of the areas of the incident triangles;
 /// - sampleShell(): A_total / N (particle repulsion spreads the points evenly), A_total the usable faces' area;

@@ -50,8 +50,8 @@ struct BodyModelSettings {
   std::string cacheDir;       ///< buildFromMeshFile's model cache folder (model_cache.h); empty: no cache
   ProgressCallback progress;  ///< optional, fraction of the SDF build done
   /// A box primitive (half extents in model units, before `scale`): with points == 0 its shell is sampled on
-  /// its surface at max(1 cell, thinnest side / 16), edges and corners included (issue 13 design note, 2.7),
-  /// not just its 8 corners.
+  /// its surface at max(1 cell, thinnest side / 16), edges and corners included, not just its 8 corners
+  /// (docs/design/contact-response.md, default shells for primitives).
   std::optional<Vec3> boxHalfExtents;
 };
 

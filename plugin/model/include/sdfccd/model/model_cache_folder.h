@@ -1,6 +1,6 @@
 /// @file
-/// @brief Where the model cache (model_cache.h) lives: the user's cache folder, never the current folder
-/// (issue 14, finding 10), checked writable before any work.
+/// @brief Where the model cache (model_cache.h) lives: the user's cache folder, never the current folder, checked
+/// writable before any work.
 #pragma once
 
 #include <string>

@@ -1,6 +1,6 @@
 /// @file
-/// @brief RunawayGuard: the physical sanity check of a running scene (issue 14, finding 6): a run whose state
-/// explodes stops with one line naming the body instead of ending "successfully" with 1e18 J of kinetic energy.
+/// @brief RunawayGuard: the physical sanity check of a running scene: a run whose state explodes stops with one
+/// line naming the body instead of ending "successfully" with 1e18 J of kinetic energy.
 ///
 /// @details Bullet-free: the caller (sdfccd simulate, a test) passes the bodies' centre-of-mass states each frame
 /// in the order of scene.bodies. Three bounds, each generous (SceneGuard's factors, 1000 by default) around what

@@ -2,7 +2,7 @@
 /// @brief Scene: a simulation scenario read from JSON (assets/scenes/*.json), strictly validated; the one reader
 /// of scene files, used by the Bullet plugin, the tool (simulate, render, plot) and the fuzzer alike.
 ///
-/// @details Scenes are data shared by tests, benchmarks and demos (README "Scene files" lists every key).
+/// @details Scenes are data shared by tests, benchmarks and demos (docs/scene-format.md lists every key).
 /// Validation is strict: unknown keys, wrong types, missing files, non-positive masses of dynamic bodies,
 /// non-finite numbers, non-unit quaternions and unknown effects are each a one-line sdfccd::Error naming the
 /// scene and the key (e.g. "scene 'x.json': bodies[2].mass must be > 0 (got -1)").

@@ -1,5 +1,5 @@
 /// @file
-/// @brief SceneBody: one body of a scene file (an entry of "bodies"; README "Scene files").
+/// @brief SceneBody: one body of a scene file (an entry of "bodies"; docs/scene-format.md).
 #pragma once
 
 #include <optional>

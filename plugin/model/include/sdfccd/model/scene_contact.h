@@ -1,5 +1,5 @@
 /// @file
-/// @brief SceneContact: the contact settings of a scene file (key "contact"; README "Scene files").
+/// @brief SceneContact: the contact settings of a scene file (key "contact"; docs/scene-format.md).
 #pragma once
 
 #include "sdfccd/response/contact_mode.h"
@@ -8,14 +8,14 @@
 
 namespace sdfccd {
 
-/// Bullet's constraint solver for a world in solver mode (scene key contact.solver; README "Contact response").
+/// Bullet's constraint solver for a world in solver mode (scene key contact.solver; docs/bullet.md).
 /// Mlcp (the default): btMLCPSolver with btDantzigSolver, an exact LCP per island (friction by findex), with a
 /// small global CFM and two friction directions; it is what holds a 10-box stack and 10 kg on 0.1 kg, where
 /// Gauss-Seidel at 10 iterations does not converge. SequentialImpulse: Bullet's default solver at Bullet's
-/// defaults. Nncg: btNNCGConstraintSolver (measured unstable at 100:1 mass ratios; kept for comparison).
+/// defaults. Nncg: btNNCGConstraintSolver (unstable at 100:1 mass ratios; kept for comparison).
 enum class ContactSolver { Mlcp, SequentialImpulse, Nncg };
 
-/// New scenes get solver mode and, in penalty mode, the issue-13 defaults (PenaltySettings::trustworthy()):
+/// New scenes get solver mode and, in penalty mode, the project's defaults (PenaltySettings::trustworthy()):
 /// stiffness per unit area, damping from the pair's restitution, the Blend direction and anchor friction with mu
 /// from the bodies. The paper's parameters stay available: "stiffness" (per point) replaces "stiffness_per_area",
 /// "damping" (per point) replaces the damping ratio, and the paper's scenes name them with "mode": "penalty",
@@ -37,7 +37,7 @@ struct SceneContact {
   bool useTree = true;
   ForceTiming forceTiming = ForceTiming::SameStep;  ///< when the penalty impulses act
   /// "mode": solver (the default: Bullet's solver answers the contacts; on the 20-bunny drop it has the larger
-  /// stable step at a lower cost, README "Contact response") or penalty (the paper's model; the paper's scenes
+  /// stable step at a lower cost, docs/bullet.md) or penalty (the paper's model; the paper's scenes
   /// name it)
   SdfccdContactMode mode = SdfccdContactMode::Solver;
   /// "solver": mlcp, sequential_impulse or nncg (solver mode only; penalty mode keeps Bullet's default solver, which

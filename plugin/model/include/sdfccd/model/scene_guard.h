@@ -1,5 +1,5 @@
 /// @file
-/// @brief SceneGuard: the limits of the runaway watchdog (key "guard" of a scene file; README "Scene files").
+/// @brief SceneGuard: the limits of the runaway watchdog (key "guard" of a scene file; docs/scene-format.md).
 #pragma once
 
 namespace sdfccd {
@@ -12,7 +12,7 @@ enum class GuardAction {
 };
 
 /// The runaway watchdog's limits. Generous by design: a sound run stays orders of magnitude inside them, an
-/// exploded one (finding 6 of issue 14: 1e9 J and more on a resting box) leaves them within a few frames.
+/// exploded one (1e9 J and more on a resting box) leaves them within a few frames.
 struct SceneGuard {
   /// "energy_factor": kinetic energy may reach this many times the scene's energy budget (initial kinetic plus
   /// potential energy above the lowest point, plus the work gravity and kinematic bodies can do; runaway_guard.h).

@@ -70,7 +70,7 @@ class JsonReader {
                      bool required = false) const;
   /// A finite number in [lo, hi] (in (lo, hi] when `lowOpen`); `fallback` when absent (not checked). The
   /// bounds are the plausible range of the quantity: a value outside is a typo or an absurd setting, refused with
-  /// one line naming the key and the range before it can blow a run up (issue 14, finding 6).
+  /// one line naming the key and the range before it can blow a run up.
   double ranged(const Json& j, const std::string& key, const std::string& where, double fallback, double lo, double hi,
                 bool lowOpen = false) const;
   /// A vec3 whose components each lie in [-bound, bound]; `fallback` when absent.
