@@ -273,7 +273,7 @@ const BenchRegistrar bench_hapticsRegistrar(
       cmd.add_option("--fig10b-direction", o->direction, "Fig. 10b: force direction (default: the scene's)")
           ->check(CLI::IsMember({"shell-normal", "field-gradient", "blend"}));
       cmd.add_flag("--fig10b-old-gradient", o->oldGradient,
-                   "Fig. 10b: the former symmetric field-normal contact gradient (before issue 16)");
+                   "Fig. 10b: the symmetric field-normal contact gradient (the older form)");
       cmd.add_flag("--fig10b-all-rungs", o->allRungs,
                    "Fig. 10b: every rung 1e6..4e7 N/m without the early stop (one line per penalty model)");
       cmd.add_option("--fig10b-coupling", o->coupling,

@@ -277,7 +277,7 @@ void searchMode(const ModeBenchOptions& o, const BenchScene& b, const char* mode
 
 void runModeTiming(const ModeBenchOptions& o, const CsvSink& csv) {
   std::printf(
-      "\nContact modes beside Bullet's own shapes (issue 13; not in the paper). Thread CPU time of the steps, one "
+      "\nContact modes beside Bullet's own shapes (not in the paper). Thread CPU time of the steps, one "
       "thread; penetration in field cells of mesh vertices (the same probe for every world); tun.: tunnelled "
       "bodies at the end; dE max: largest rise of the total energy above the start. The paper has no such figure.\n");
   const BenchScene bunnies = loadBenchScene(o, "20 bunnies", "drop-bunnies.json");

@@ -121,7 +121,7 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
                             {"solver 1/240 s, 1 thread", SdfccdContactMode::Solver, kScalingSolverStep, 1},
                             {"solver 1/240 s, 2 threads", SdfccdContactMode::Solver, kScalingSolverStep, 2}};
   std::printf(
-      "\nScaling (issue 17): bunnies (777 points, 128^3 fields) dropped into a pile, %.2f s simulated; contact "
+      "\nScaling: bunnies (777 points, 128^3 fields) dropped into a pile, %.2f s simulated; contact "
       "defaults of a new world; %u hardware threads; %s; load average before: %s\n"
       "  wall and thread CPU of the steps; process CPU counts every thread (the pool's too). Other engineers share "
       "this machine: times are under load unless the load average says otherwise.\n",
@@ -220,7 +220,7 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
   if (target != counts.end()) {
     const std::size_t k = std::size_t(target - counts.begin());
     auto realTime = [&](std::size_t c) { return runs[c][k].frames * configs[c].dt / runs[c][k].wall; };
-    std::printf("  issue 17 targets (idle machine) vs ours, %d bunnies, 2 threads:\n", kTargetBodies);
+    std::printf("  scaling targets (idle machine) vs ours, %d bunnies, 2 threads:\n", kTargetBodies);
     std::printf("    penalty 1 ms real-time factor   >= %.2fx   ours %.3fx\n", kTargetPenalty, realTime(1));
     std::printf("    solver 1/240 s real-time factor >= %.2fx   ours %.3fx\n", kTargetSolver, realTime(3));
     std::printf("    parallel speedup on 2 cores     >= %.2fx   ours penalty %.2fx, solver %.2fx\n", kTargetSpeedup,

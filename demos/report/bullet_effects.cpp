@@ -181,8 +181,8 @@ ReportSection runEffectsSection(const ReportContext& context) {
 
   std::ostringstream md;
   md << "## Effects: what a scene does not ask for costs nothing\n\n"
-     << "A scene lists the effects it simulates (gravity, ground, damping, rotation, friction; README \"Scene "
-        "files\"); an effect not listed is not simulated at all, rather than simulated with a zero coefficient. "
+     << "A scene lists the effects it simulates (gravity, ground, damping, rotation, friction; docs/scene-format.md \""
+        "Effects\"); an effect not listed is not simulated at all, rather than simulated with a zero coefficient. "
         "Scene: ten bunnies of `drop-bunnies.json` (777 points, "
      << base.bodies.front().resolution
      << "^3 fields), thrown down at 1 m/s (upper layer 2 m/s, so it catches the lower one) and spinning, so every "

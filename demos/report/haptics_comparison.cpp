@@ -146,7 +146,7 @@ std::string fig10b(const ReportContext& ctx, double& ratio) {
           break;
         }
       }
-      table.addRow({g ? "consistent (issue 16)" : "former (symmetric, field normal)", haptics::toString(method),
+      table.addRow({g ? "consistent" : "symmetric, field normal", haptics::toString(method),
                     fmt("%.3g", sweep.maxStableStiffness), fmt("%d", sweep.isolatedFailures),
                     sweep.foundLimit ? fmt("%.3g", next->stiffness) : "-",
                     sweep.foundLimit ? next->reason.substr(0, 90) : "stable to 1e9"});
@@ -178,8 +178,8 @@ std::string fig10b(const ReportContext& ctx, double& ratio) {
             "gradient made the force's own: shell normal, turning normal, torque lever) the continuous limit rose "
             "about twentyfold. Our discrete model evaluates force and gradient at the same pose (backward Euler), a "
             "stronger baseline than the paper's may have been; and both limits have isolated unstable rungs, so a "
-            "single ratio carries a factor of ~1.6. See README, Haptics."
-          : "The claim does not hold here: see README, Haptics, for what was found.");
+            "single ratio carries a factor of ~1.6. See docs/haptics.md."
+          : "The claim does not hold here: see docs/haptics.md for what was found.");
   md += "Every run: `haptics_fig10b.csv`.\n\n";
   return md;
 }
