@@ -5,8 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)"
+cmake --preset release -DSDFCCD_WITH_OPENVDB=ON >/dev/null
+cmake --build --preset release -j"$(nproc)"
 mkdir -p out
 run=out/drop-bunnies
 # Paper Fig. 10a: 20 bunnies dropped onto the ground, headless (fields and shells cached in the model cache).
