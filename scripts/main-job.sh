@@ -5,10 +5,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-# The tool only (its libraries with it): the test suites are the test command's, which reuses this build folder.
-source scripts/configure-release.sh
-configure_release
-cmake --build build -j"$(nproc)" --target sdfccd
+# The tool only (its libraries with it), in the test command's tree and settings (the release preset): the test
+# command reuses what this compiled and builds only the suites on top.
+cmake --preset release >/dev/null
+cmake --build --preset release -j"$(nproc)" --target sdfccd
 mkdir -p out
 run=out/drop-bunnies
 # Paper Fig. 10a: 20 bunnies dropped onto the ground, headless (fields and shells cached in the model cache).

@@ -7,6 +7,7 @@
 
 #include "cli/command_registry.h"
 #include "sdfccd/error.h"
+#include "sdfccd/output_file.h"
 
 namespace {
 
@@ -23,6 +24,8 @@ std::string oneLine(const char* what) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // An interrupted command leaves no temporary output file or empty run folder behind.
+  sdfccd::installTempFileCleanupHandlers();
   CLI::App app{"sdfccd: continuous collision detection between point shells and signed distance fields"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "sdfccd 0.1.0");

@@ -315,6 +315,7 @@ int interruptSlowWriter(const std::string& target, int signalNumber) {
   const pid_t child = ::fork();
   if (child == 0) {
     ::close(ready[0]);
+    installTempFileCleanupHandlers();
     OutputFile file(target);
     for (int n = 0;; ++n) {
       file.stream() << std::string(4096, 'a') << std::flush;
@@ -353,6 +354,7 @@ TEST_F(OutputFileTest, SigintDuringSlowWriteLeavesNoTemporaryFile) {
 TEST_F(OutputFileTest, ASignalInAForkedChildLeavesTheParentsTemporaryFileAlone) {
   // Between fork and exec (gnuplot, ffmpeg) the child has our handler and a copy of the table: a signal to
   // the child alone must not remove the parent's files.
+  installTempFileCleanupHandlers();
   OutputFile file(at("parent.csv"));
   file.stream() << "parent";
   const pid_t child = ::fork();

@@ -95,6 +95,7 @@ TEST_F(OutputFolderTest, SigtermRemovesTheTemporaryFileAndTheEmptyFolders) {
   ASSERT_GE(child, 0);
   if (child == 0) {
     ::close(ready[0]);
+    installTempFileCleanupHandlers();
     OutputFolder run(at("out/run"));
     OutputFile frames(at("out/run/frames.csv"));
     for (int n = 0;; ++n) {

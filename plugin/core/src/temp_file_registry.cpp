@@ -9,7 +9,8 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <mutex>
+
+#include "sdfccd/output_file.h"
 
 namespace sdfccd::detail {
 namespace {
@@ -71,24 +72,7 @@ void removeTempFilesAndReraise(int signalNumber) {
   errno = savedErrno;
 }
 
-void installHandlers() {
-  for (const int signalNumber : kSignals) {
-    struct sigaction previous {};
-    if (::sigaction(signalNumber, nullptr, &previous) != 0) continue;
-    const bool isDefault = !(previous.sa_flags & SA_SIGINFO) && previous.sa_handler == SIG_DFL;
-    if (!isDefault) continue;  // ignored by the parent, or the program's own handler: leave it
-    struct sigaction action {};
-    action.sa_handler = removeTempFilesAndReraise;
-    sigemptyset(&action.sa_mask);
-    for (const int other : kSignals) sigaddset(&action.sa_mask, other);  // one cleanup at a time
-    action.sa_flags = SA_RESTART;
-    ::sigaction(signalNumber, &action, nullptr);
-  }
-}
-
 int registerPath(const char* path, bool isFolder) {
-  static std::once_flag installed;
-  std::call_once(installed, installHandlers);
   // Absolute, so that the handler removes the right file whatever the working folder is by then.
   char absolute[PATH_MAX];
   std::size_t prefix = 0;
@@ -137,3 +121,22 @@ int liveTempFileCount() {
 }
 
 }  // namespace sdfccd::detail
+
+namespace sdfccd {
+
+void installTempFileCleanupHandlers() {
+  for (const int signalNumber : detail::kSignals) {
+    struct sigaction previous {};
+    if (::sigaction(signalNumber, nullptr, &previous) != 0) continue;
+    const bool isDefault = !(previous.sa_flags & SA_SIGINFO) && previous.sa_handler == SIG_DFL;
+    if (!isDefault) continue;  // ignored by the parent, or the program's own handler: leave it
+    struct sigaction action {};
+    action.sa_handler = detail::removeTempFilesAndReraise;
+    sigemptyset(&action.sa_mask);
+    for (const int other : detail::kSignals) sigaddset(&action.sa_mask, other);  // one cleanup at a time
+    action.sa_flags = SA_RESTART;
+    ::sigaction(signalNumber, &action, nullptr);
+  }
+}
+
+}  // namespace sdfccd

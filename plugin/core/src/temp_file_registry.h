@@ -11,9 +11,8 @@
 /// handler claims a live slot with a compare-and-swap before it reads the path, so a thread that frees or
 /// reuses a slot at the same moment never hands it a half-written path.
 ///
-/// The handler is installed, once, by the first registration, and only for signals whose disposition is
-/// still the default: a signal the parent ignores (nohup, a background job) stays ignored, and a handler
-/// the program installed itself is kept (its temporary files are then its own business).
+/// The library registers and forgets paths but installs no handler: a program that wants the cleanup calls
+/// sdfccd::installTempFileCleanupHandlers() (sdfccd/output_file.h) at start-up, as the sdfccd tool does.
 #pragma once
 
 namespace sdfccd::detail {

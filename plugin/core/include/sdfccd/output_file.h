@@ -18,9 +18,10 @@
 /// - A target that exists and is not a regular file (a character device such as /dev/null, a FIFO, a
 ///   terminal) is opened and written directly, never replaced, and "-" is standard output. These outputs
 ///   are not atomic: an error leaves what was already written.
-/// - A terminating signal (SIGINT, SIGTERM, SIGHUP, SIGPIPE) removes every live temporary file before the
-///   process ends by that signal. SIGKILL cannot be caught: a leftover "*.tmp-*" file then is garbage that is
-///   safe to delete.
+/// - In a program that calls installTempFileCleanupHandlers() (the sdfccd tool does, at start-up), a
+///   terminating signal (SIGINT, SIGTERM, SIGHUP, SIGPIPE) removes every live temporary file before the
+///   process ends by that signal. The library itself installs no signal handler. SIGKILL cannot be caught: a
+///   leftover "*.tmp-*" file then is garbage that is safe to delete.
 /// - checkOutput(), called by a command before any work, refuses an output that is one of its inputs (the
 ///   same device and inode, so through links and hard links too) and one that cannot be created.
 ///
@@ -66,6 +67,13 @@ class OutputFile {
   struct State;
   std::unique_ptr<State> m_state;
 };
+
+/// Installs, for SIGINT, SIGTERM, SIGHUP and SIGPIPE, a handler that removes the live temporary files and the
+/// empty folders that OutputFile and OutputFolder objects of this process created, then ends the process by that
+/// signal (exit status 128 + N in a shell). Only a signal whose disposition is still the default gets it: a
+/// signal the parent ignores (nohup, a background job) stays ignored, and a handler the program installed is
+/// kept. For programs, at start-up; the library never calls it. Calling it again changes nothing.
+void installTempFileCleanupHandlers();
 
 /// Writes `contents` to `path` through an OutputFile.
 void writeOutputFile(const std::string& path, const std::string& contents);
