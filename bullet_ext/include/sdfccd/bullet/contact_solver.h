@@ -1,5 +1,5 @@
 /// @file
-/// @brief The constraint solver for a Bullet world whose SdfccdShapes run in solver mode (issue 13; README
+/// @brief The constraint solver for a Bullet world whose SdfccdShapes run in solver mode (README
 /// "Contact response: two modes").
 ///
 /// @details Solver mode hands the CCD's contacts to Bullet's constraint solver as manifold points. Bullet's
@@ -16,9 +16,9 @@
 ///    only makes the LCP larger (its cost grows with the cube of the rows).
 /// A Bullet user building their own world:
 /// @code
-///   auto solver = sdfccd::makeContactSolver(sdfccd::ContactSolver::Mlcp);
+///   auto solver = sdfccd::bullet::makeContactSolver(sdfccd::ContactSolver::Mlcp);
 ///   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &configuration);
-///   sdfccd::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
+///   sdfccd::bullet::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
 /// @endcode
 #pragma once
 
@@ -30,7 +30,7 @@
 class btConstraintSolver;
 struct btContactSolverInfo;
 
-namespace sdfccd {
+namespace sdfccd::bullet {
 
 /// Largest island (in solver rows: one per contact point and friction direction, plus the joints' rows) that the
 /// Mlcp solver answers with Dantzig; a larger island is answered by sequential impulse. The LCP's cost grows with the
@@ -59,4 +59,4 @@ std::optional<MlcpSolverCounts> mlcpSolverCounts(const btConstraintSolver& solve
 /// "mlcp", "sequential_impulse" or "nncg" (the scene key's values).
 const char* contactSolverName(ContactSolver kind);
 
-}  // namespace sdfccd
+}  // namespace sdfccd::bullet
