@@ -5,11 +5,11 @@
 /// 1. Table 4: CCD time between the objects during a drop (drop-bunny: 777 points, 2,600 frames; drop-bowl:
 ///    2,072 points, 2,000 frames; drop-dragon: 437,645 points, 1,160 frames), point tree vs point by point
 ///    ("linear") on the *same* motion: the tree drives the simulation and, every n-th step, each query is
-///    repeated point by point and timed (SdfccdContactSettings::shadowLinearEvery; n = 1 for bunny and bowl,
+///    repeated point by point and timed (SceneWorldSettings::shadowLinearEvery; n = 1 for bunny and bowl,
 ///    so their linear totals are measured, not estimated; the dragon's is extrapolated from every n-th step).
 ///    Bodies never sleep here, so every frame costs its CCD. Thread CPU time, one thread. Paper (2015 Xeon,
 ///    1024^3 fields): linear / tree = 8 / 2.5 s, 20.3 / 4.5 s, 671.6 / 2.6 s. Each drop runs twice: the fresh
-///    tree (with the linear repeats), then the coherent tree (SdfccdContactSettings::coherentCcd: each pair and
+///    tree (with the linear repeats), then the coherent tree (ContactSettings::coherentCcd: each pair and
 ///    role starts from its last front, rigid_ccd_coherence.h; same contacts, so the same motion). Then the
 ///    20-bunny drop (drop-bunnies as shipped): its whole CCD time, fresh vs coherent.
 /// 2. Fig. 10a stability: 20 bunnies (drop-bunnies without friction and without time-of-impact clamping, so
@@ -94,7 +94,7 @@ double median(std::vector<double> values) {
 /// Computes each body's field culling bounds (field_culling_bounds.h) before the clock starts: a field computes them at
 /// its first tree query, once (tens of milliseconds for a 128^3 field), which the timed drop would otherwise count as
 /// CCD time of its first step (a setup, like the field's build: the paper's Table 1, not Table 4).
-void warmFields(const SceneWorld& world) {
+void warmFields(const bullet::SceneWorld& world) {
   for (int i = 0; i < world.bodyCount(); ++i) (void)world.model(i).field().cullingBounds();
 }
 
@@ -108,15 +108,15 @@ struct Table4Run {
 };
 
 Table4Run runTable4Scene(const Scene& scene, int frames, const BenchBulletOptions& o, int shadowEvery, bool coherent) {
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = o.cache;
   settings.allowSleeping = false;
   settings.shadowLinearEvery = shadowEvery;
   settings.coherentCcd = coherent;
-  SceneWorld world(scene, settings);
+  bullet::SceneWorld world(scene, settings);
   warmFields(world);
   for (int f = 0; f < frames; ++f) world.step();
-  const SdfccdContactStatistics& stats = world.contacts().statistics();
+  const bullet::ContactStatistics& stats = world.contacts().statistics();
   Table4Run run;
   run.tree = stats.ccdSeconds - stats.groundCcdSeconds;
   run.linear = stats.shadowSteps > 0 ? stats.shadowLinearSeconds * double(frames) / double(stats.shadowSteps) : 0.0;
@@ -133,10 +133,10 @@ void runPileCcd(const BenchBulletOptions& o) {
   std::vector<double> tries[2];
   for (int r = 0; r < o.repeat; ++r) {
     for (int coherent = 0; coherent < 2; ++coherent) {
-      SceneWorldSettings settings;
+      bullet::SceneWorldSettings settings;
       settings.cacheDir = o.cache;
       settings.coherentCcd = coherent == 1;
-      SceneWorld world(scene, settings);
+      bullet::SceneWorld world(scene, settings);
       warmFields(world);
       for (int f = 0; f < frames; ++f) world.step();
       tries[coherent].push_back(world.contacts().statistics().ccdSeconds);
@@ -276,9 +276,9 @@ void runPeer(const BenchBulletOptions& o) {
   // GImpact needs seconds per step once the bunnies touch: by default the first 0.4 s (both layers land).
   const int wanted = o.peerFrames > 0 ? std::min(o.peerFrames, scene.frames) : scene.frames;
   const int frames = o.quick ? std::max(1, wanted / 2) : wanted;
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = o.cache;  // sleeping as the scene says, in both worlds
-  SceneWorld ours(scene, settings);
+  bullet::SceneWorld ours(scene, settings);
   std::vector<std::shared_ptr<const BodyModel>> models;
   std::vector<bool> isStatic;
   for (int i = 0; i < ours.bodyCount(); ++i) {
@@ -291,7 +291,7 @@ void runPeer(const BenchBulletOptions& o) {
   auto oursPoses = [&]() {
     std::vector<Rigid> poses;
     for (int i = 0; i < ours.bodyCount(); ++i) {
-      const SceneBodyState s = ours.bodyState(i);
+      const bullet::SceneBodyState s = ours.bodyState(i);
       Rigid r = Rigid::Identity();
       r.linear() = s.orientation.normalized().toRotationMatrix();
       r.translation() = s.position;

@@ -105,14 +105,14 @@ int runBenchQueries(const BenchQueriesOptions& o) {
   const TriangleMesh& mesh = model->meshInBody();
   btTriangleMesh triangles;
   for (const auto& t : mesh.triangles) {
-    triangles.addTriangle(toBtVector3(mesh.vertices[std::size_t(t[0])]), toBtVector3(mesh.vertices[std::size_t(t[1])]),
-                          toBtVector3(mesh.vertices[std::size_t(t[2])]));
+    triangles.addTriangle(bullet::toBtVector3(mesh.vertices[std::size_t(t[0])]), bullet::toBtVector3(mesh.vertices[std::size_t(t[1])]),
+                          bullet::toBtVector3(mesh.vertices[std::size_t(t[2])]));
   }
   btBvhTriangleMeshShape bvhShape(&triangles, true);
-  SdfccdShape oursShape(model);
+  bullet::SdfccdShape oursShape(model);
   const btTransform pose(btQuaternion(btVector3(1, 2, 3).normalized(), 0.7f), btVector3(0.3f, -0.2f, 0.1f));
   OneObjectWorld ours(&oursShape, pose), bvh(&bvhShape, pose);
-  const btVector3 centre = pose(toBtVector3(model->boundsInBody().center()));
+  const btVector3 centre = pose(bullet::toBtVector3(model->boundsInBody().center()));
   const btScalar size = btScalar(model->boundsInBody().diagonal().norm());
   std::printf("%s: %zu triangles, field %d cells on the longest side (cell %.3g m)\n", o.mesh.c_str(),
               mesh.triangles.size(), o.resolution, model->cellSize());

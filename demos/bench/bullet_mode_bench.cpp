@@ -60,9 +60,9 @@ BenchScene loadBenchScene(const ModeBenchOptions& o, const std::string& label, c
   BenchScene b;
   b.label = label;
   b.scene = loadScene(o.scenes + "/" + file);
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = o.cache;
-  const SceneWorld world(b.scene, settings);
+  const bullet::SceneWorld world(b.scene, settings);
   std::vector<bool> isStatic;
   for (int i = 0; i < world.bodyCount(); ++i) {
     b.models.push_back(world.modelPtr(i));
@@ -82,10 +82,10 @@ Contender oursContender(const ModeBenchOptions& o, const BenchScene& b, const st
   if (!keepSceneContact) scene.contact = SceneContact{};  // a new world's defaults
   scene.contact.mode = mode;
   scene.timestep = dt;
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = o.cache;
   settings.solver = solver;
-  auto world = std::make_shared<SceneWorld>(scene, settings);
+  auto world = std::make_shared<bullet::SceneWorld>(scene, settings);
   Contender c;
   c.name = name;
   c.timestep = dt;
@@ -93,7 +93,7 @@ Contender oursContender(const ModeBenchOptions& o, const BenchScene& b, const st
   c.poses = [world]() {
     std::vector<Rigid> poses;
     for (int i = 0; i < world->bodyCount(); ++i) {
-      const SceneBodyState s = world->bodyState(i);
+      const bullet::SceneBodyState s = world->bodyState(i);
       Rigid r = Rigid::Identity();
       r.linear() = s.orientation.normalized().toRotationMatrix();
       r.translation() = s.position;

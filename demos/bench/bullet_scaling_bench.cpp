@@ -70,7 +70,7 @@ struct ScalingRun {
   double threadCpu = 0.0;   // s, the stepping thread
   double processCpu = 0.0;  // s, every thread of the process
   double queries = 0.0;     // CCD queries
-  double batch = 0.0;       // s, wall time of the parallel batches (SdfccdContactStatistics::parallelWallSeconds)
+  double batch = 0.0;       // s, wall time of the parallel batches (ContactStatistics::parallelWallSeconds)
 };
 
 /// Steps `step` for `seconds` of simulated time at `dt`; `queries` reads the CCD query counter.
@@ -154,14 +154,14 @@ void runScalingBench(const ScalingBenchOptions& o, const ScalingCsvSink& csv) {
         scene.contact = SceneContact{};
         scene.contact.mode = configs[c].mode;
         scene.timestep = configs[c].dt;
-        SceneWorldSettings settings;
+        bullet::SceneWorldSettings settings;
         settings.cacheDir = o.cache;
         settings.narrowphaseThreads = configs[c].threads;
-        SceneWorld world(scene, settings);
+        bullet::SceneWorld world(scene, settings);
         if (models.empty()) {
           for (int i = 0; i < world.bodyCount(); ++i) models.push_back(world.modelPtr(i));
         }
-        const SdfccdContactStatistics& stats = world.contacts().statistics();
+        const bullet::ContactStatistics& stats = world.contacts().statistics();
         const double batch0 = stats.parallelWallSeconds;
         ScalingRun run = timeSteps([&world] { world.step(); }, configs[c].dt, seconds,
                                    [&stats] { return double(stats.ccdQueries); });

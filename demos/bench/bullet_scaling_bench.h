@@ -5,7 +5,7 @@
 /// @details 20, 80 and 320 bunnies (drop-bunnies' bunny: 777 points, 128^3 field; the shipped scene's 20
 /// orientations repeated) dropped from a grid of layers into a pile, 1.5 s simulated:
 /// - penalty mode at 1 ms and solver mode at 1/240 s, each with the project's contact defaults (what a new world
-///   gets), on 1 and on 2 narrowphase threads (SdfccdContactSettings::threads; identical results);
+///   gets), on 1 and on 2 narrowphase threads (ContactSettings::threads; identical results);
 /// - the convex-hull world (gimpact_peer.h, PeerShape::ConvexHull: Bullet's btConvexHullShape of the bunny's hull)
 ///   at 1/240 s, Bullet's own single-threaded step.
 /// Per run: wall time of the steps, thread CPU of the stepping thread and CPU of the whole process (our pool's threads

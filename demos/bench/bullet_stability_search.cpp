@@ -13,14 +13,14 @@
 namespace sdfccd::cli {
 
 StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSettings& s) {
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = s.cacheDir;
   settings.model = s.model;
   settings.timestep = s.timestep;
   settings.stiffness = s.stiffness;
   settings.timeOfImpactClamp = false;
   settings.forceTiming = s.forceTiming;
-  SceneWorld world(scene, settings);
+  bullet::SceneWorld world(scene, settings);
   const double g = -scene.gravity.y();
   auto energy = [&]() {
     double e = world.kineticEnergy();
@@ -46,7 +46,7 @@ StabilityTrial runStabilityTrial(const Scene& scene, const StabilityTrialSetting
       break;
     }
     for (int i = 0; i < world.bodyCount(); ++i) {
-      const SceneBodyState b = world.bodyState(i);
+      const bullet::SceneBodyState b = world.bodyState(i);
       states[std::size_t(i)] = {b.position, b.linearVelocity};
     }
     if (const std::optional<std::string> runaway = guard.check((f + 1) * s.timestep, states, world.kineticEnergy())) {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/model/scene.h"
 
 namespace sdfccd::cli {

@@ -106,7 +106,7 @@ GImpactPeer::GImpactPeer(const Scene& scene, const std::vector<std::shared_ptr<c
     const bool isBox = b.primitive && b.primitive->type == "box";
     if (!mesh)
       mesh = shapeKind == PeerShape::GImpact ? makeMesh(model.meshInBody()) : makeConvex(model.meshInBody(), isBox);
-    auto body = makeSceneRigidBody(scene, b, model, mesh->shape.get(), true);  // sleeping as the scene says
+    auto body = bullet::makeSceneRigidBody(scene, b, model, mesh->shape.get(), true);  // sleeping as the scene says
     world.addRigidBody(body.get());
     m_bullet->bodies.push_back(std::move(body));
   }

@@ -71,10 +71,10 @@ std::string shownName(const std::string& name) {
 }
 
 /// The bodies' centre-of-mass motion as the runaway guard reads it.
-std::vector<GuardBodyState> guardStates(const SceneWorld& world) {
+std::vector<GuardBodyState> guardStates(const bullet::SceneWorld& world) {
   std::vector<GuardBodyState> states;
   for (int i = 0; i < world.bodyCount(); ++i) {
-    const SceneBodyState s = world.bodyState(i);
+    const bullet::SceneBodyState s = world.bodyState(i);
     states.push_back({s.position, s.linearVelocity});
   }
   return states;
@@ -103,7 +103,7 @@ int runSimulate(const SimulateOptions& o) {
   checkOutput(outDir + "/frames.csv", {o.scene});
   checkOutput(outDir + "/summary.json", {o.scene});
 
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = modelCacheFolder(o.cacheOption->count() > 0 ? &o.cache : nullptr);
   checkModelCacheWritable(settings.cacheDir);  // before the build, not after it
   if (!o.model.empty()) {
@@ -129,8 +129,8 @@ int runSimulate(const SimulateOptions& o) {
   }
   if (o.noToi) settings.timeOfImpactClamp = false;
   if (o.linear) settings.useTree = false;
-  if (o.threads < 0 || o.threads > kMaxNarrowphaseThreads)
-    throw Error("--threads must be in 0.." + std::to_string(kMaxNarrowphaseThreads) +
+  if (o.threads < 0 || o.threads > bullet::kMaxNarrowphaseThreads)
+    throw Error("--threads must be in 0.." + std::to_string(bullet::kMaxNarrowphaseThreads) +
                 " (0: all hardware threads; got " + std::to_string(o.threads) + ")");
   settings.narrowphaseThreads = o.threads;
   if (o.forceTiming == "next_step") {
@@ -141,11 +141,11 @@ int runSimulate(const SimulateOptions& o) {
     throw Error("--force-timing must be same_step or next_step (got '" + o.forceTiming + "')");
   }
 
-  std::unique_ptr<SceneWorld> world;
+  std::unique_ptr<bullet::SceneWorld> world;
   {
     ProgressBar bar("building " + shownName(scene.name));
     settings.buildProgress = bar.callback();
-    world = std::make_unique<SceneWorld>(scene, settings);
+    world = std::make_unique<bullet::SceneWorld>(scene, settings);
   }
   const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
@@ -170,7 +170,7 @@ int runSimulate(const SimulateOptions& o) {
     if (!frameRenderer || !frameRenderer->wantsFrame(frame)) return;
     std::vector<Rigid> poses;
     for (int i = 0; i < world->bodyCount(); ++i) {
-      const SceneBodyState s = world->bodyState(i);
+      const bullet::SceneBodyState s = world->bodyState(i);
       poses.push_back(bodyPose(s.position, s.orientation));
     }
     frameRenderer->renderRunFrame(frame, poses, o.renderDir);
@@ -182,13 +182,13 @@ int runSimulate(const SimulateOptions& o) {
   auto recordFrame = [&] {
     out << done << "," << world->time();
     for (int i = 0; i < world->bodyCount(); ++i) {
-      const SceneBodyState s = world->bodyState(i);
+      const bullet::SceneBodyState s = world->bodyState(i);
       out << "," << s.position.x() << "," << s.position.y() << "," << s.position.z() << "," << s.orientation.w() << ","
           << s.orientation.x() << "," << s.orientation.y() << "," << s.orientation.z() << "," << s.linearVelocity.x()
           << "," << s.linearVelocity.y() << "," << s.linearVelocity.z() << "," << s.angularVelocity.x() << ","
           << s.angularVelocity.y() << "," << s.angularVelocity.z();
     }
-    const SceneFrameStats& last = world->lastFrame();
+    const bullet::SceneFrameStats& last = world->lastFrame();
     out << "," << last.contacts << "," << last.penetrationCells << "," << world->kineticEnergy() << ","
         << last.ccdSeconds << "," << last.stepSeconds << "," << last.clamps << "\n";
   };
@@ -235,7 +235,7 @@ int runSimulate(const SimulateOptions& o) {
   const bool solverMode = contact.mode == SdfccdContactMode::Solver;
   summary["mode"] = solverMode ? "solver" : "penalty";
   if (solverMode) {
-    summary["solver"] = contactSolverName(contact.solver);
+    summary["solver"] = bullet::contactSolverName(contact.solver);
   } else {
     summary["model"] = contact.model == PenaltyModel::Continuous ? "continuous" : "discrete";
   }

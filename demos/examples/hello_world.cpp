@@ -9,7 +9,7 @@
 #include <btBulletDynamicsCommon.h>
 #include <sdfccd/bullet/bullet_pose.h>
 #include <sdfccd/bullet/contact_solver.h>
-#include <sdfccd/bullet/sdfccd_contact_system.h>
+#include <sdfccd/bullet/contact_system.h>
 #include <sdfccd/bullet/sdfccd_shape.h>
 
 #include <cstdio>
@@ -23,18 +23,18 @@
 int main(int argc, char** argv) {
   const std::string meshPath = argc > 1 ? argv[1] : "assets/meshes/bunny.off";
 
-  // The world, as in Bullet's HelloWorld; then one call installs sdfccd's collision algorithms (the
-  // registration owns the contact system; btDiscreteDynamicsWorldMt is refused).
+  // The world, as in Bullet's HelloWorld; then the contact system installs sdfccd's collision algorithms and its
+  // response in it until it goes (btDiscreteDynamicsWorldMt is refused).
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
   // Solver mode (the default) hands the contacts to Bullet's constraint solver: the exact MLCP one keeps stacks
   // and heavy-on-light pairs from creeping (sdfccd/bullet/contact_solver.h).
-  auto solver = sdfccd::makeContactSolver(sdfccd::ContactSolver::Mlcp);
+  auto solver = sdfccd::bullet::makeContactSolver(sdfccd::ContactSolver::Mlcp);
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &configuration);
-  sdfccd::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
+  sdfccd::bullet::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
   world.setGravity(btVector3(0, -9.81f, 0));
-  sdfccd::registerSdfccdAlgorithms(&world);
+  sdfccd::bullet::ContactSystem contacts(world);
 
   // Shapes and bodies are the program's (Bullet's rule: keep a shape alive while a body uses it).
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
@@ -72,8 +72,8 @@ int main(int argc, char** argv) {
   const auto bunny = sdfccd::BodyModel::buildFromMeshFile(meshPath, settings);
   const btScalar height = btScalar(bunny->boundsInBody().sizes().maxCoeff());
   auto addBunny = [&](const std::string& name, const btVector3& where) {
-    add(name, new sdfccd::SdfccdShape(bunny), 0.2f,
-        sdfccd::bodyTransformForMeshPose(*bunny, at(where.x(), where.y(), where.z())));
+    add(name, new sdfccd::bullet::SdfccdShape(bunny), 0.2f,
+        sdfccd::bullet::bodyTransformForMeshPose(*bunny, at(where.x(), where.y(), where.z())));
   };
   addBunny("bunny-1", btVector3(0, 0.6f * height, 0));
   addBunny("bunny-2", btVector3(0.005f, 2.2f * height, 0.003f));              // lands on bunny-1
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
   auto watchSupports = [&] {
     const btTransform cylinderFromBunny = cylinder.getWorldTransform().inverse() * onCylinder.getWorldTransform();
     for (const sdfccd::Vec3& q : bunny->shell().positions) {
-      const btVector3 l = cylinderFromBunny * sdfccd::toBtVector3(q);
+      const btVector3 l = cylinderFromBunny * sdfccd::bullet::toBtVector3(q);
       const btScalar depth = btMin(0.03f - btSqrt(l.x() * l.x() + l.z() * l.z()), 0.02f - btFabs(l.y()));
       deepestInCylinder = btMax(deepestInCylinder, depth);
     }
@@ -150,6 +150,5 @@ int main(int argc, char** argv) {
   std::printf("bunny-on-ramp %s ramp\n", crossedRamp ? "FELL THROUGH" : "did not fall through");
   const bool fellThrough = throughCylinder || crossedRamp;
   for (auto& body : bodies) world.removeRigidBody(body.get());
-  sdfccd::releaseSdfccdAlgorithms(&world);
   return firstTouch.empty() || fellThrough ? 1 : 0;
 }

@@ -6,7 +6,7 @@
 /// 128^3 fields; 64^3 in smoke mode) thrown down at 1 m/s, the upper layer at 2 m/s so that it catches the lower
 /// one, spinning: every effect has contacts to act on even without gravity or ground. The scene runs with no
 /// effect, with each effect alone, and with all of them. Per run: the step time (thread CPU time per frame, the
-/// median over repeats; bodies never sleep) and work counters of the contact system (SdfccdContactStatistics):
+/// median over repeats; bodies never sleep) and work counters of the contact system (ContactStatistics):
 /// CCD queries against the ground plane, damping terms, torques, friction terms evaluated, and the gravity in
 /// the world. The section is ok when every counter of an effect that is off is zero and every effect that is on
 /// alone did some work.
@@ -77,16 +77,16 @@ EffectsRun runOnce(const Scene& base, const std::string& name, const std::set<st
   scene.effects = effects;
   std::vector<std::array<double, 3>> times;  // (step, ccd, ground ccd) ms per frame
   for (int r = 0; r < repeats; ++r) {
-    SceneWorldSettings settings;
+    bullet::SceneWorldSettings settings;
     settings.cacheDir = context.cacheDir.string();
     settings.threads = context.threads;
     settings.allowSleeping = false;
-    SceneWorld world(scene, settings);
+    bullet::SceneWorld world(scene, settings);
     const double start = threadCpuSeconds();
     for (int f = 0; f < scene.frames; ++f) world.step();
     const double seconds = threadCpuSeconds() - start;
     if (world.hasNonFinite()) throw Error("effects: the run '" + name + "' produced NaN or infinite states");
-    const SdfccdContactStatistics& stats = world.contacts().statistics();
+    const bullet::ContactStatistics& stats = world.contacts().statistics();
     times.push_back({1e3 * seconds / scene.frames, 1e3 * stats.ccdSeconds / scene.frames,
                      1e3 * stats.groundCcdSeconds / scene.frames});
     // Counters are deterministic (same scene, same steps): the last repeat's stand for all.
@@ -190,7 +190,7 @@ ReportSection runEffectsSection(const ReportContext& context) {
      << frames << " frames of " << fmt("%.0f", 1e3 * base.timestep)
      << " ms, bodies never sleep. Step: thread CPU time per frame, median of " << repeats
      << " run(s). The counters are the contact system's work: CCD queries against the ground plane, damping "
-        "terms, torques and friction terms evaluated at the penalty samples (SdfccdContactStatistics). The paper "
+        "terms, torques and friction terms evaluated at the penalty samples (ContactStatistics). The paper "
         "has no figure for this (its scenes always simulate every effect).\n\n"
      << table.str() << "\n"
      << (ok ? "Every counter of an effect that is off is zero in every run, and each effect alone does work: an "

@@ -62,7 +62,7 @@ int firstBody(const Scene& scene, bool wantStatic) {
 /// has had time to cross the plate twice over.
 ShotResult shoot(const Scene& base, double speed, const ThinVariant& variant, const ReportContext& ctx) {
   Scene scene = base;
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = ctx.cacheDir.string();
   settings.threads = ctx.threads;
   settings.model = variant.model;
@@ -79,7 +79,7 @@ ShotResult shoot(const Scene& base, double speed, const ThinVariant& variant, co
   const double gap = std::abs((b.position - scene.bodies[std::size_t(plate)].position).dot(direction));
   ShotResult result;
   result.frames = static_cast<int>(std::ceil(2.0 * gap / (speed * scene.timestep))) + 20;
-  SceneWorld world(scene, settings);
+  bullet::SceneWorld world(scene, settings);
   const Vec3 half = scene.bodies[std::size_t(plate)].primitive->halfExtents;
   const PointShell& shell = world.model(bunny).shell();
   // The box primitive is centred on its mesh's origin, along the mesh's axes; the body frame may be a permutation
@@ -87,8 +87,8 @@ ShotResult shoot(const Scene& base, double speed, const ThinVariant& variant, co
   const Rigid& plateModelFromBody = world.model(plate).modelFromBody();
   for (int f = 0; f < result.frames; ++f) {
     world.step();
-    const SceneBodyState p = world.bodyState(plate);
-    const SceneBodyState s = world.bodyState(bunny);
+    const bullet::SceneBodyState p = world.bodyState(plate);
+    const bullet::SceneBodyState s = world.bodyState(bunny);
     Rigid worldFromPlate = Rigid::Identity();
     worldFromPlate.linear() = p.orientation.toRotationMatrix();
     worldFromPlate.translation() = p.position;
@@ -219,10 +219,10 @@ ReportSection runThin(const ReportContext& ctx) {
   Sweep bySpeed{cellsPerStep, std::vector<std::vector<ShotResult>>(variants)};
   double plateCell = 0.0;
   {
-    SceneWorldSettings settings;
+    bullet::SceneWorldSettings settings;
     settings.cacheDir = ctx.cacheDir.string();
     settings.threads = ctx.threads;
-    const SceneWorld probe(base, settings);
+    const bullet::SceneWorld probe(base, settings);
     plateCell = probe.model(firstBody(base, true)).cellSize();
   }
   for (const double cells : cellsPerStep) {

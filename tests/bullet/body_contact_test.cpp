@@ -1,4 +1,4 @@
-// Per-body penalty parameters (SdfccdContactSystem::setBodyContact): a pair combines its bodies' values with the
+// Per-body penalty parameters (ContactSystem::setBodyContact): a pair combines its bodies' values with the
 // world's as documented (springs in series, normalised; means for damping), and a body without an override
 // leaves the world's settings untouched.
 #include <btBulletDynamicsCommon.h>
@@ -8,7 +8,7 @@
 
 #include "bullet_test_util.h"
 #include "bullet_world_fixture.h"
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -22,8 +22,8 @@ std::shared_ptr<const BodyModel> ballModel() {
   return model;
 }
 
-SdfccdContactSettings perAreaPenalty(double stiffnessPerArea) {
-  SdfccdContactSettings settings;
+bullet::ContactSettings perAreaPenalty(double stiffnessPerArea) {
+  bullet::ContactSettings settings;
   settings.mode = SdfccdContactMode::Penalty;
   settings.penalty.stiffnessPerArea = stiffnessPerArea;
   return settings;
@@ -32,10 +32,10 @@ SdfccdContactSettings perAreaPenalty(double stiffnessPerArea) {
 /// A 1 kg ball of radius 0.1 m dropped from 5 mm onto a static plane, in penalty mode with the per-area law.
 class BallOnPlane {
  public:
-  BallOnPlane(double worldStiffnessPerArea, const SdfccdBodyContact* ballOverride)
+  BallOnPlane(double worldStiffnessPerArea, const bullet::BodyContact* ballOverride)
       : world_(perAreaPenalty(worldStiffnessPerArea)) {
     world_.add(std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), 0), 0.0, Vec3::Zero());
-    ball_ = &world_.add(std::make_unique<SdfccdShape>(ballModel()), 1.0, Vec3(0, 0.105, 0));
+    ball_ = &world_.add(std::make_unique<bullet::SdfccdShape>(ballModel()), 1.0, Vec3(0, 0.105, 0));
     if (ballOverride != nullptr) contacts().setBodyContact(ball_, *ballOverride);
   }
   /// Steps 1 s at 1 kHz; returns the ball's height.
@@ -43,7 +43,7 @@ class BallOnPlane {
     world_.step(1000, 0.001);
     return double(ball_->getWorldTransform().getOrigin().y());
   }
-  SdfccdContactSystem& contacts() { return *world_.contacts; }
+  bullet::ContactSystem& contacts() { return *world_.contacts; }
   const btRigidBody* ball() const { return ball_; }
 
  private:
@@ -55,7 +55,7 @@ class BallOnPlane {
 // 2 (k0/4) k0 / (k0/4 + k0) = 0.4 k0 without overrides, and deeper than at k0.
 TEST(BodyContact, StiffnessCombinesLikeSpringsInSeries) {
   const double k0 = PenaltySettings::trustworthy().stiffnessPerArea;
-  SdfccdBodyContact soft;
+  bullet::BodyContact soft;
   soft.stiffnessPerArea = 0.25 * k0;
   BallOnPlane overridden(k0, &soft);
   BallOnPlane equivalent(0.4 * k0, nullptr);
@@ -71,7 +71,7 @@ TEST(BodyContact, StiffnessCombinesLikeSpringsInSeries) {
 // Overrides equal to the world's change nothing; clearing one restores the world's settings.
 TEST(BodyContact, EqualOverrideAndClear) {
   const double k0 = PenaltySettings::trustworthy().stiffnessPerArea;
-  SdfccdBodyContact same;
+  bullet::BodyContact same;
   same.stiffnessPerArea = k0;
   BallOnPlane withSame(k0, &same);
   BallOnPlane plain(k0, nullptr);
@@ -82,9 +82,11 @@ TEST(BodyContact, EqualOverrideAndClear) {
 }
 
 TEST(BodyContact, BadValuesAreRefused) {
-  SdfccdContactSystem system;
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  bullet::ContactSystem system(dispatcher);
   btCollisionObject body;
-  SdfccdBodyContact bad;
+  bullet::BodyContact bad;
   bad.stiffness = -1.0;
   EXPECT_THROW(system.setBodyContact(&body, bad), Error);
   bad = {};
@@ -97,8 +99,10 @@ TEST(BodyContact, BadValuesAreRefused) {
 // An override of another law than the world's is refused (its units differ, or the pair's law would ignore it).
 TEST(BodyContact, OverridesOfAnotherLawAreRefused) {
   btCollisionObject body;
-  auto refused = [&](const SdfccdContactSettings& settings, const SdfccdBodyContact& contact) {
-    SdfccdContactSystem system(settings);
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  auto refused = [&](const bullet::ContactSettings& settings, const bullet::BodyContact& contact) {
+    bullet::ContactSystem system(dispatcher, settings);
     try {
       system.setBodyContact(&body, contact);
     } catch (const Error&) {
@@ -106,27 +110,27 @@ TEST(BodyContact, OverridesOfAnotherLawAreRefused) {
     }
     return false;
   };
-  SdfccdBodyContact perPoint, perArea, damping, ratio;
+  bullet::BodyContact perPoint, perArea, damping, ratio;
   perPoint.stiffness = 1000.0;
   perArea.stiffnessPerArea = 1.0e6;
   damping.damping = 1.0;
   ratio.dampingRatio = 0.5;
-  const SdfccdContactSettings defaults;  // per-area stiffness, ratio from restitution
+  const bullet::ContactSettings defaults;  // per-area stiffness, ratio from restitution
   EXPECT_TRUE(refused(defaults, perPoint));
   EXPECT_FALSE(refused(defaults, perArea));
   EXPECT_TRUE(refused(defaults, damping));
   EXPECT_TRUE(refused(defaults, ratio));
-  SdfccdContactSettings paper;  // the paper's law: per point, per-point damping
+  bullet::ContactSettings paper;  // the paper's law: per point, per-point damping
   paper.penalty = PenaltySettings{};
   EXPECT_FALSE(refused(paper, perPoint));
   EXPECT_TRUE(refused(paper, perArea));
   EXPECT_FALSE(refused(paper, damping));
   EXPECT_TRUE(refused(paper, ratio));
-  SdfccdContactSettings explicitRatio = defaults;
+  bullet::ContactSettings explicitRatio = defaults;
   explicitRatio.penalty.dampingRatioFromRestitution = false;
   EXPECT_FALSE(refused(explicitRatio, ratio));
   EXPECT_TRUE(refused(explicitRatio, damping));
-  SdfccdBodyContact zeroArea;
+  bullet::BodyContact zeroArea;
   zeroArea.stiffnessPerArea = 0.0;
   EXPECT_TRUE(refused(defaults, zeroArea));
 }

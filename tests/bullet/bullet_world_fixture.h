@@ -1,4 +1,4 @@
-// A small dynamics world with our collision algorithms registered, owning its shapes and bodies: the fixture of
+// A small dynamics world with our contact installed, owning its shapes and bodies: the fixture of
 // the suites that drop bodies on Bullet's own shapes (convex_pairs_test.cpp, other_shapes_test.cpp).
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "sdfccd/bullet/bullet_pose.h"
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 
 namespace sdfccd::test {
 
@@ -40,17 +40,17 @@ struct BulletTestWorld {
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
-  std::shared_ptr<SdfccdContactSystem> contacts;
+  std::unique_ptr<bullet::ContactSystem> contacts;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
 
-  explicit BulletTestWorld(const SdfccdContactSettings& settings) {
+  explicit BulletTestWorld(const bullet::ContactSettings& settings) {
     world.setGravity(btVector3(0, btScalar(-9.81), 0));
-    contacts = registerSdfccdAlgorithms(&world, settings);
+    contacts = std::make_unique<bullet::ContactSystem>(world, settings);
   }
   ~BulletTestWorld() {
     for (auto& b : bodies) world.removeRigidBody(b.get());
-    world.removeAction(contacts.get());
+    contacts.reset();
   }
   BulletTestWorld(const BulletTestWorld&) = delete;
   BulletTestWorld& operator=(const BulletTestWorld&) = delete;
@@ -61,7 +61,7 @@ struct BulletTestWorld {
     if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(), inertia);
     info.m_startWorldTransform.setIdentity();
-    info.m_startWorldTransform.setOrigin(toBtVector3(position));
+    info.m_startWorldTransform.setOrigin(bullet::toBtVector3(position));
     bodies.push_back(std::make_unique<btRigidBody>(info));
     if (mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
     world.addRigidBody(bodies.back().get());

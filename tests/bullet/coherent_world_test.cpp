@@ -1,4 +1,4 @@
-// The CCD history (SdfccdContactSettings::coherentCcd: each pair and role's query starts from its last front,
+// The CCD history (ContactSettings::coherentCcd: each pair and role's query starts from its last front,
 // and answers from its certificates alone when they rule out every contact) must not change a simulation by one
 // bit: a small pile of bunnies stepped with and without it ends in the same state, in penalty and in solver mode.
 // The pile is dense enough that pairs overlap in the broadphase without touching (the certificates' case) and
@@ -30,10 +30,10 @@ struct CoherentWorldRun {
 };
 
 CoherentWorldRun runCoherentWorldPile(const Scene& scene, int frames, bool coherent) {
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.cacheDir = ::testing::TempDir() + "sdfccd_coherent_world_cache";  // the field is built once
   settings.coherentCcd = coherent;
-  SceneWorld world(scene, settings);
+  bullet::SceneWorld world(scene, settings);
   CoherentWorldRun run;
   for (int f = 0; f < frames; ++f) {
     world.step();

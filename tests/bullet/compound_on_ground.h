@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "sdfccd/bullet/contact_solver.h"
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "sdfccd/model/body_model.h"
@@ -19,15 +19,15 @@ class CompoundOnGround {
  public:
   /// Children: boxes of half extent `half` (32^3 fields) at the child frames `left` and `right`; the compound's
   /// centre starts at height `startHeight` above the ground y = 0.
-  CompoundOnGround(const SdfccdContactSettings& settings, double half, const btTransform& left,
+  CompoundOnGround(const bullet::ContactSettings& settings, double half, const btTransform& left,
                    const btTransform& right, double startHeight, double gravity)
-      : solver_(makeContactSolver(solverFor(settings))),
+      : solver_(bullet::makeContactSolver(solverFor(settings))),
         model_(buildModel(half)),
         leftShape_(model_),
         rightShape_(model_) {
-    configureContactSolver(world_.getSolverInfo(), solverFor(settings));
+    bullet::configureContactSolver(world_.getSolverInfo(), solverFor(settings));
     world_.setGravity(btVector3(0, btScalar(-gravity), 0));
-    contacts_ = registerSdfccdAlgorithms(&world_, settings);
+    contacts_ = std::make_unique<bullet::ContactSystem>(world_, settings);
     compound_.addChildShape(left, &leftShape_);
     compound_.addChildShape(right, &rightShape_);
     btVector3 inertia;
@@ -42,7 +42,7 @@ class CompoundOnGround {
   ~CompoundOnGround() {
     world_.removeRigidBody(body_.get());
     world_.removeRigidBody(&ground_);
-    world_.removeAction(contacts_.get());
+    contacts_.reset();
   }
 
   void step(int steps, double dt) {
@@ -62,7 +62,7 @@ class CompoundOnGround {
   }
 
  private:
-  static ContactSolver solverFor(const SdfccdContactSettings& settings) {
+  static ContactSolver solverFor(const bullet::ContactSettings& settings) {
     return settings.mode == SdfccdContactMode::Solver ? ContactSolver::Mlcp : ContactSolver::SequentialImpulse;
   }
   static std::shared_ptr<const BodyModel> buildModel(double half) {
@@ -79,11 +79,11 @@ class CompoundOnGround {
   std::unique_ptr<btConstraintSolver> solver_;
   btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, solver_.get(), &configuration_};
   std::shared_ptr<const BodyModel> model_;
-  SdfccdShape leftShape_, rightShape_;
+  bullet::SdfccdShape leftShape_, rightShape_;
   btCompoundShape compound_;
   btStaticPlaneShape plane_{btVector3(0, 1, 0), 0};
   btRigidBody ground_{btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &plane_)};
-  std::shared_ptr<SdfccdContactSystem> contacts_;
+  std::unique_ptr<bullet::ContactSystem> contacts_;
   std::unique_ptr<btRigidBody> body_;
 };
 

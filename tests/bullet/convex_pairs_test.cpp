@@ -23,8 +23,8 @@ struct ConvexWorld : test::BulletTestWorld {
   void run(int steps) { step(steps, 0.001); }
 };
 
-SdfccdContactSettings dropSettings() {
-  SdfccdContactSettings s;
+bullet::ContactSettings dropSettings() {
+  bullet::ContactSettings s;
   s.mode = SdfccdContactMode::Penalty;
   s.penalty = PenaltySettings{};  // the paper's per-point law, as the shipped drop scenes name it
   s.penalty.stiffness = 10000.0;
@@ -49,13 +49,13 @@ TEST(ConvexPairs, BunnyRestsOnStaticBulletBox) {
   w.add(std::make_unique<btBoxShape>(btVector3(0.6f, 0.05f, 0.6f)), 0.0, Vec3(0, 0.1, 0));
   const double top = 0.15;
   const double lowest = -bunny->boundsInBody().min().y();
-  btRigidBody& body = w.add(std::make_unique<SdfccdShape>(bunny), 1.0, Vec3(0.02, top + lowest + 0.02, -0.03));
+  btRigidBody& body = w.add(std::make_unique<bullet::SdfccdShape>(bunny), 1.0, Vec3(0.02, top + lowest + 0.02, -0.03));
   double deepestCells = 0.0;
   bool shellRole = false, boxRole = false;  // our shell in the box's field, the box's points in our field
   for (int i = 0; i < 2500; ++i) {
     w.run(1);
     deepestCells = std::max(deepestCells, w.contacts->lastStepMaxPenetrationCells());
-    for (const SdfccdPairContact& c : w.contacts->lastStepContacts()) {
+    for (const bullet::PairContact& c : w.contacts->lastStepContacts()) {
       shellRole = shellRole || c.shellObject == &body;
       boxRole = boxRole || c.fieldObject == &body;
     }
@@ -68,7 +68,7 @@ TEST(ConvexPairs, BunnyRestsOnStaticBulletBox) {
   const double cell = bunny->cellSize();
   EXPECT_LE(lowestY, top + 0.05 * cell) << "floating above the box";
   EXPECT_GT(lowestY, top - 0.5 * cell) << "sunk into the box";
-  EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.02);
+  EXPECT_LT(bullet::toVec3(body.getLinearVelocity()).norm(), 0.02);
   EXPECT_LT(std::abs(pose.getOrigin().x()), 0.3);
   EXPECT_LT(std::abs(pose.getOrigin().z()), 0.3);
   EXPECT_GT(w.contacts->lastStepContactCount(), 0);
@@ -83,18 +83,18 @@ TEST(ConvexPairs, BunnyRestsOnStaticBulletBox) {
 TEST(ConvexPairs, BulletSphereRestsOnStaticBodyOfOurs) {
   auto plate = boxModel(Vec3(0.3, 0.05, 0.3), 3000);
   ConvexWorld w(dropSettings());
-  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(plate), 0.0, Vec3::Zero());
+  btRigidBody& box = w.add(std::make_unique<bullet::SdfccdShape>(plate), 0.0, Vec3::Zero());
   const double r = 0.05;
   btRigidBody& ball = w.add(std::make_unique<btSphereShape>(btScalar(r)), 1.0, Vec3(0.01, 0.2, 0.02));
   w.run(1200);
-  const Vec3 at = toVec3(ball.getWorldTransform().getOrigin());
+  const Vec3 at = bullet::toVec3(ball.getWorldTransform().getOrigin());
   const double cell = plate->cellSize();
   EXPECT_NEAR(at.y(), 0.05 + r - 0.25 * cell, 0.25 * cell) << "cell " << cell;
   // At rest vertically; sideways it may roll slowly (a ball on a bed of points has no rolling resistance).
   EXPECT_LT(std::abs(ball.getLinearVelocity().y()), 0.005);
-  EXPECT_LT(toVec3(ball.getLinearVelocity()).norm(), 0.05);
+  EXPECT_LT(bullet::toVec3(ball.getLinearVelocity()).norm(), 0.05);
   EXPECT_LT(std::hypot(at.x() - 0.01, at.z() - 0.02), 0.03);
-  EXPECT_TRUE(toVec3(box.getWorldTransform().getOrigin()).isZero(0.0));
+  EXPECT_TRUE(bullet::toVec3(box.getWorldTransform().getOrigin()).isZero(0.0));
   EXPECT_GT(w.contacts->lastStepContactCount(), 0);
 }
 
@@ -102,13 +102,13 @@ TEST(ConvexPairs, BulletSphereRestsOnStaticBodyOfOurs) {
 TEST(ConvexPairs, BulletCapsuleRestsOnStaticBodyOfOurs) {
   auto plate = boxModel(Vec3(0.3, 0.05, 0.3));
   ConvexWorld w(dropSettings());
-  w.add(std::make_unique<SdfccdShape>(plate), 0.0, Vec3::Zero());
+  w.add(std::make_unique<bullet::SdfccdShape>(plate), 0.0, Vec3::Zero());
   const double r = 0.04;
   btRigidBody& capsule = w.add(std::make_unique<btCapsuleShapeX>(btScalar(r), btScalar(0.2)), 1.0, Vec3(0, 0.2, 0));
   w.run(1200);
-  const Vec3 at = toVec3(capsule.getWorldTransform().getOrigin());
+  const Vec3 at = bullet::toVec3(capsule.getWorldTransform().getOrigin());
   EXPECT_NEAR(at.y(), 0.05 + r - 0.25 * plate->cellSize(), 0.25 * plate->cellSize());
-  EXPECT_LT(toVec3(capsule.getLinearVelocity()).norm(), 0.02);
+  EXPECT_LT(bullet::toVec3(capsule.getLinearVelocity()).norm(), 0.02);
 }
 
 }  // namespace

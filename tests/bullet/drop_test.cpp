@@ -20,7 +20,7 @@ TEST(Drop, BoxRestsAtAnalyticHeight) {
     "contact": { "mode": "penalty", "model": "continuous", "stiffness": 2000.0, "damping": 4.0 },
     "bodies": [ { "name": "box", "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] },
                   "mass": 1.0, "position": [0, 0.07, 0], "points": 400, "resolution": 24 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   for (int f = 0; f < scene.frames; ++f) world.step();
   const BodyModel& model = world.model(0);
   int bottom = 0;
@@ -28,7 +28,7 @@ TEST(Drop, BoxRestsAtAnalyticHeight) {
   ASSERT_GT(bottom, 50);
   const double depth = 9.81 / (2000.0 * bottom);
   const double expected = 0.05 - depth;
-  const SceneBodyState s = world.bodyState(0);
+  const bullet::SceneBodyState s = world.bodyState(0);
   EXPECT_NEAR(s.position.y(), expected, 0.1 * model.cellSize()) << "cell " << model.cellSize();
   EXPECT_LT(s.linearVelocity.norm(), 0.02);
   EXPECT_TRUE(world.tunneledBodies().empty());
@@ -46,7 +46,7 @@ TEST(Drop, SphereRestsAtAnalyticHeight) {
     "contact": { "mode": "penalty", "model": "continuous", "stiffness": 2000.0, "damping": 1.0 },
     "bodies": [ { "name": "ball", "primitive": { "type": "sphere", "radius": 0.1, "subdivisions": 4 },
                   "mass": 1.0, "position": [0, 0.13, 0], "points": 1500, "resolution": 24 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   for (int f = 0; f < scene.frames; ++f) {
     world.step();
     if (getenv("DBG") && f % 10 == 0)
@@ -57,7 +57,7 @@ TEST(Drop, SphereRestsAtAnalyticHeight) {
   const double r = 0.1;
   const double n = static_cast<double>(world.model(0).shell().size());
   const double depth = std::sqrt(4 * r * 9.81 / (2000.0 * n));
-  const SceneBodyState s = world.bodyState(0);
+  const bullet::SceneBodyState s = world.bodyState(0);
   EXPECT_NEAR(s.position.y(), r - depth, 0.1 * world.model(0).cellSize()) << "depth " << depth;
   EXPECT_NEAR(s.position.x(), 0.0, 0.02);  // no friction: uneven point normals let it slide a little
   EXPECT_LT(s.linearVelocity.norm(), 0.02);
@@ -70,7 +70,7 @@ TEST(Drop, ContactsAreReportedButNotSolvedTwice) {
     "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 4.0 },
     "bodies": [ { "primitive": { "type": "box", "half_extents": [0.1, 0.05, 0.1] }, "mass": 1.0,
                   "position": [0, 0.05, 0], "points": 300, "resolution": 16 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   for (int f = 0; f < 50; ++f) world.step();
   btDispatcher* dispatcher = world.world().getDispatcher();
   int points = 0;
@@ -103,7 +103,7 @@ TEST(Drop, SleepingBodyWakesOnContact) {
         "position": [0, 0.0499, 0], "points": 300, "resolution": 16 },
       { "name": "top", "primitive": { "type": "box", "half_extents": [0.05, 0.05, 0.05] }, "mass": 1.0,
         "position": [0, 5.0, 0], "points": 200, "resolution": 16 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   // Bullet's global time a body must stay slow before it sleeps (default 2 s); shortened for the test.
   struct DeactivationTimeGuard {
     btScalar saved = gDeactivationTime;

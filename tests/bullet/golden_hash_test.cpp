@@ -22,7 +22,7 @@ constexpr std::uint64_t kGoldenHash = 0xe4178163e11a2192ull;
 
 TEST(GoldenHash, DropBunniesAfter600Frames) {
   const Scene scene = loadScene(std::string(SDFCCD_ASSETS_DIR) + "/scenes/drop-bunnies.json");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   for (int f = 0; f < kFrames; ++f) world.step();
   char hex[32];
   std::snprintf(hex, sizeof hex, "0x%016llxull", static_cast<unsigned long long>(world.stateHash()));

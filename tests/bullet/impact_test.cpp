@@ -20,7 +20,7 @@ const char* kPlateScene = R"({
       "position": [0.0, 0.3, 0.0], "velocity": [0.0, -40.0, 0.0], "points": 300, "resolution": 16 } ] })";
 
 TEST(Impact, ThinPlateContinuousDoesNotTunnel) {
-  SceneWorld world(test::sceneFromText(kPlateScene));
+  bullet::SceneWorld world(test::sceneFromText(kPlateScene));
   for (int f = 0; f < 40; ++f) world.step();
   EXPECT_TRUE(world.tunneledBodies().empty());
   EXPECT_GT(world.bodyState(1).position.y(), 0.015);  // above the plate
@@ -29,9 +29,9 @@ TEST(Impact, ThinPlateContinuousDoesNotTunnel) {
 }
 
 TEST(Impact, ThinPlateDiscreteTunnels) {
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.model = PenaltyModel::Discrete;
-  SceneWorld world(test::sceneFromText(kPlateScene), settings);
+  bullet::SceneWorld world(test::sceneFromText(kPlateScene), settings);
   for (int f = 0; f < 40; ++f) world.step();
   ASSERT_EQ(world.tunneledBodies().size(), 1u);
   EXPECT_EQ(world.tunneledBodies()[0], "ball");
@@ -49,7 +49,7 @@ TEST(Impact, FreeBodiesConserveLinearMomentum) {
         "position": [-0.12, 0.0, 0.0], "velocity": [1.0, 0.0, 0.0], "points": 300, "resolution": 16 },
       { "name": "b", "primitive": { "type": "box", "half_extents": [0.04, 0.05, 0.05] }, "mass": 2.0,
         "position": [0.12, 0.02, 0.0], "velocity": [-0.5, 0.1, 0.0], "points": 300, "resolution": 16 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   const Vec3 before = 1.0 * world.bodyState(0).linearVelocity + 2.0 * world.bodyState(1).linearVelocity;
   int contactFrames = 0;
   for (int f = 0; f < scene.frames; ++f) {

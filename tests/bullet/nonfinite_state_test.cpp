@@ -47,11 +47,11 @@ TEST(Stability, NonFiniteSceneStateIsRejected) {
   for (const Case& c : cases) {
     Scene bad = good;
     c.spoil(bad, c.value);
-    test::expectOneLineError([&] { SceneWorld world(bad); }, c.expected, " = " + std::to_string(c.value));
+    test::expectOneLineError([&] { bullet::SceneWorld world(bad); }, c.expected, " = " + std::to_string(c.value));
   }
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.timestep = nan;
-  EXPECT_THROW(SceneWorld(good, settings), Error);
+  EXPECT_THROW(bullet::SceneWorld(good, settings), Error);
 }
 
 // A small box resting on a larger one on the ground (bodies "bottom" and "top"), no sleeping.
@@ -101,13 +101,13 @@ TEST(Stability, NonFiniteStateInjectedBetweenStepsIsRejected) {
        [](btRigidBody& b, double v) { b.applyCentralForce(btVector3(btScalar(v), 0, 0)); }, inf},
   };
   for (const Case& c : cases) {
-    SceneWorld world(scene);
+    bullet::SceneWorld world(scene);
     for (int f = 0; f < 50; ++f) world.step();
-    const SceneBodyState bottomBefore = world.bodyState(0);
+    const bullet::SceneBodyState bottomBefore = world.bodyState(0);
     c.inject(world.body(1), c.value);
     test::expectOneLineError([&] { world.step(); }, c.expected);
     EXPECT_EQ(world.frame(), 50);
-    const SceneBodyState bottomAfter = world.bodyState(0);
+    const bullet::SceneBodyState bottomAfter = world.bodyState(0);
     EXPECT_EQ(bottomAfter.position, bottomBefore.position) << c.expected;
     EXPECT_EQ(bottomAfter.linearVelocity, bottomBefore.linearVelocity) << c.expected;
   }
@@ -117,13 +117,13 @@ TEST(Stability, NonFiniteStateInjectedBetweenStepsIsRejected) {
 // contact system gives that body no contact, so the NaN never reaches the body under it.
 TEST(Stability, ContactSystemDoesNotSpreadNonFiniteState) {
   const Scene scene = smallBoxOnLargeBox();
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   for (int f = 0; f < 50; ++f) world.step();
   ASSERT_GT(world.lastFrame().contacts, 0);
   world.body(1).setLinearVelocity(btVector3(std::numeric_limits<btScalar>::quiet_NaN(), 0, 0));
   for (int f = 0; f < 5; ++f) world.world().stepSimulation(btScalar(0.001), 0);
   EXPECT_GT(world.contacts().statistics().nonFinitePairs, 0);
-  const SceneBodyState bottom = world.bodyState(0);
+  const bullet::SceneBodyState bottom = world.bodyState(0);
   EXPECT_TRUE(bottom.position.allFinite() && bottom.linearVelocity.allFinite() && bottom.angularVelocity.allFinite());
 }
 

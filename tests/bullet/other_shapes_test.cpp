@@ -24,8 +24,8 @@ namespace sdfccd {
 namespace other_shapes_test {
 
 /// Settings of the given contact mode, defaults otherwise.
-SdfccdContactSettings modeSettings(SdfccdContactMode mode) {
-  SdfccdContactSettings settings;
+bullet::ContactSettings modeSettings(SdfccdContactMode mode) {
+  bullet::ContactSettings settings;
   settings.mode = mode;
   return settings;
 }
@@ -65,7 +65,7 @@ std::shared_ptr<const BodyModel> smallBox() {
 double lowestShellPoint(const btRigidBody& body, const BodyModel& model) {
   double lowest = 1e300;
   for (const Vec3& p : model.shell().positions) {
-    lowest = std::min(lowest, double(body.getWorldTransform()(toBtVector3(p)).y()));
+    lowest = std::min(lowest, double(body.getWorldTransform()(bullet::toBtVector3(p)).y()));
   }
   return lowest;
 }
@@ -74,12 +74,12 @@ double lowestShellPoint(const btRigidBody& body, const BodyModel& model) {
 /// point within half a cell of the top, at rest, on top.
 void expectBoxRestsOn(ShapesWorld& w, double top, const char* what) {
   const auto model = smallBox();
-  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(0.01, top + 0.05 + 0.03, -0.01));
+  btRigidBody& box = w.add(std::make_unique<bullet::SdfccdShape>(model), 1.0, Vec3(0.01, top + 0.05 + 0.03, -0.01));
   w.run(360);
   const double cell = model->cellSize();
   const double lowest = lowestShellPoint(box, *model);
   EXPECT_NEAR(lowest, top, 0.5 * cell) << what << ": cell " << cell;  // measured: within 0.2 mm
-  EXPECT_LT(toVec3(box.getLinearVelocity()).norm(), 0.05) << what;
+  EXPECT_LT(bullet::toVec3(box.getLinearVelocity()).norm(), 0.05) << what;
   EXPECT_LT(std::hypot(box.getWorldTransform().getOrigin().x() - 0.01, box.getWorldTransform().getOrigin().z() + 0.01),
             0.03)
       << what;
@@ -96,10 +96,10 @@ TEST(OtherShapesBunny, BunnyRestsOnStaticCylinder) {
   ShapesWorld w(SdfccdContactMode::Solver);
   w.add(std::make_unique<btCylinderShape>(btVector3(0.3f, 0.05f, 0.3f)), 0.0, Vec3::Zero());
   const double lowest = -bunny->boundsInBody().min().y();
-  btRigidBody& body = w.add(std::make_unique<SdfccdShape>(bunny), 1.0, Vec3(0.02, 0.05 + lowest + 0.02, -0.03));
+  btRigidBody& body = w.add(std::make_unique<bullet::SdfccdShape>(bunny), 1.0, Vec3(0.02, 0.05 + lowest + 0.02, -0.03));
   w.run(480);
   EXPECT_NEAR(lowestShellPoint(body, *bunny), 0.05, bunny->cellSize() + 0.002) << "cell " << bunny->cellSize();
-  EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05);
+  EXPECT_LT(bullet::toVec3(body.getLinearVelocity()).norm(), 0.05);
   EXPECT_LT(std::hypot(body.getWorldTransform().getOrigin().x(), body.getWorldTransform().getOrigin().z()), 0.2);
   EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0);
 }
@@ -117,7 +117,7 @@ TEST_P(OtherShapes, BoxRestsOnCylinderLyingOnItsSide) {
   // rock on the round top (a stable balance): at rest its shell touches the surface, sqrt(y^2 + z^2) = radius.
   w.add(std::make_unique<btCylinderShapeX>(btVector3(0.3f, 0.2f, 0.2f)), 0.0, Vec3(0, 0, 0));
   const auto model = smallBox();
-  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(0.01, 0.2 + 0.05 + 0.03, 0.0));
+  btRigidBody& box = w.add(std::make_unique<bullet::SdfccdShape>(model), 1.0, Vec3(0.01, 0.2 + 0.05 + 0.03, 0.0));
   w.run(720);
   double gap = 1e300;
   for (const Vec3& p : model->shell().positions) {
@@ -125,7 +125,7 @@ TEST_P(OtherShapes, BoxRestsOnCylinderLyingOnItsSide) {
     gap = std::min(gap, std::hypot(double(q.y()), double(q.z())) - 0.2);
   }
   EXPECT_NEAR(gap, 0.0, model->cellSize() + 0.002);
-  EXPECT_LT(toVec3(box.getLinearVelocity()).norm(), 0.05);
+  EXPECT_LT(bullet::toVec3(box.getLinearVelocity()).norm(), 0.05);
   EXPECT_GT(double(box.getWorldTransform().getOrigin().y()), 0.2);
   EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0);
 }
@@ -192,7 +192,7 @@ TEST_P(OtherShapes, ConvexShapesRestOnStaticBodyOfOurs) {
   for (auto& shape : falling) {
     ShapesWorld w(GetParam());
     auto plate = BodyModel::buildFromMesh(makeBox(Vec3(0.3, 0.05, 0.3)), test::smallModelSettings(32, 2000, 1));
-    w.add(std::make_unique<SdfccdShape>(plate), 0.0, Vec3::Zero());
+    w.add(std::make_unique<bullet::SdfccdShape>(plate), 0.0, Vec3::Zero());
     const double bottom = -double(shape->localGetSupportingVertex(btVector3(0, -1, 0)).y());
     const std::string name = shape->getName();
     btRigidBody& body =
@@ -201,7 +201,7 @@ TEST_P(OtherShapes, ConvexShapesRestOnStaticBodyOfOurs) {
     const double height = double(body.getWorldTransform().getOrigin().y());
     // A quarter of the plate's (coarse, 19 mm) cell: a shape grown by its margin twice would be 2 cm high.
     EXPECT_NEAR(height, 0.05 + bottom, 0.25 * plate->cellSize() + 0.002) << name;
-    EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05) << name;
+    EXPECT_LT(bullet::toVec3(body.getLinearVelocity()).norm(), 0.05) << name;
     EXPECT_EQ(w.contacts->statistics().unsupportedPairs, 0) << name;
   }
 }
@@ -228,7 +228,7 @@ TEST_P(OtherShapes, BoxSetOnMeshMarginStaysWithoutKick) {
   const double margin = 0.04;
   w.addStaticMesh(ground).getCollisionShape()->setMargin(btScalar(margin));
   const auto model = smallBox();
-  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(0.01, margin + 0.05 + 0.0005, -0.01));
+  btRigidBody& box = w.add(std::make_unique<bullet::SdfccdShape>(model), 1.0, Vec3(0.01, margin + 0.05 + 0.0005, -0.01));
   double lowest = 1e300;
   double fastest = 0.0;
   for (int step = 0; step < 240; ++step) {
@@ -278,7 +278,7 @@ TEST_P(OtherShapes, NoTunnellingThroughThinMeshWallAt20MetresPerSecond) {
   wall.triangles = {{0, 1, 2}, {0, 2, 3}};
   w.addStaticMesh(wall);
   const auto model = smallBox();
-  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(-0.5, 0.0, 0.0));
+  btRigidBody& box = w.add(std::make_unique<bullet::SdfccdShape>(model), 1.0, Vec3(-0.5, 0.0, 0.0));
   box.setLinearVelocity(btVector3(20, 0, 0));
   double farthest = -1e9;
   for (int i = 0; i < 60; ++i) {
@@ -300,12 +300,12 @@ TEST_P(OtherShapes, MeshApexMeetsOurFieldAsAPoint) {
   pyramid.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 4, 3}, {0, 1, 4}};
   w.addStaticMesh(pyramid);
   const auto model = smallBox();
-  btRigidBody& box = w.add(std::make_unique<SdfccdShape>(model), 1.0, Vec3(0.0, 0.1 + 0.05 + 0.02, 0.0));
+  btRigidBody& box = w.add(std::make_unique<bullet::SdfccdShape>(model), 1.0, Vec3(0.0, 0.1 + 0.05 + 0.02, 0.0));
   double deepest = 0.0;  // of the apex in the box's field (m)
   for (int i = 0; i < 240; ++i) {
     w.run(1);
     const btVector3 apex = box.getWorldTransform().inverse()(btVector3(0, btScalar(0.1), 0));
-    const Vec3 inField = model->bodyFromField().inverse() * toVec3(apex);
+    const Vec3 inField = model->bodyFromField().inverse() * bullet::toVec3(apex);
     deepest = std::min(deepest, model->field().distance(inField));
   }
   EXPECT_GT(deepest, -(model->cellSize() + 0.002)) << "cell " << model->cellSize();
@@ -340,13 +340,13 @@ TEST_P(OtherShapes, CompoundsOfOtherShapesAndOfOurs) {
     btTransform at;
     at.setIdentity();
     at.setOrigin(btVector3(0, btScalar(0.02), 0));
-    w.shapes.push_back(std::make_unique<SdfccdShape>(model));
+    w.shapes.push_back(std::make_unique<bullet::SdfccdShape>(model));
     compound->addChildShape(at, w.shapes.back().get());
     btRigidBody& body = w.add(std::move(compound), 1.0, Vec3(0, 0.1, 0));
     w.run(360);
     const double lowest = double(body.getWorldTransform().getOrigin().y()) + 0.02 - 0.05;
     EXPECT_NEAR(lowest, 0.0, model->cellSize() + 0.002);
-    EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05);
+    EXPECT_LT(bullet::toVec3(body.getLinearVelocity()).norm(), 0.05);
   }
 }
 
@@ -366,7 +366,7 @@ TEST(OtherShapesUnsupported, AnnouncedOnceAndCounted) {
   ShapesWorld w(SdfccdContactMode::Solver);
   w.add(userConcaveShape(), 0.0, Vec3(0, 0, 0));
   w.add(userConcaveShape(), 0.0, Vec3(0.5, 0, 0));
-  w.add(std::make_unique<SdfccdShape>(smallBox()), 1.0, Vec3(0.2, 0.3, 0));
+  w.add(std::make_unique<bullet::SdfccdShape>(smallBox()), 1.0, Vec3(0.2, 0.3, 0));
   w.run(10);
   ASSERT_EQ(w.log.size(), 1u);
   EXPECT_NE(w.log[0].find("UserConcaveShape"), std::string::npos) << w.log[0];
@@ -432,7 +432,7 @@ TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
       BodyModelSettings ls;
       ls.resolution = 256;  // 7.8 mm cells over the 2 m level
       level = BodyModel::buildFromMesh(wavyTerrain(true), ls);
-      btRigidBody& ground = w.add(std::make_unique<SdfccdShape>(level), 0.0, Vec3::Zero());
+      btRigidBody& ground = w.add(std::make_unique<bullet::SdfccdShape>(level), 0.0, Vec3::Zero());
       // The body frame is the centre of mass and principal axes: placed so that the mesh frame is the world's.
       const Rigid& pose = level->modelFromBody();
       const Eigen::Matrix3d m = pose.linear();
@@ -444,7 +444,7 @@ TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
       ground.setWorldTransform(t);
     }
     const double lowest = -bunny->boundsInBody().min().y();
-    btRigidBody& body = w.add(std::make_unique<SdfccdShape>(bunny), 1.0, Vec3(0.1, 0.03 + lowest + 0.05, 0.1));
+    btRigidBody& body = w.add(std::make_unique<bullet::SdfccdShape>(bunny), 1.0, Vec3(0.1, 0.03 + lowest + 0.05, 0.1));
     const auto start = std::chrono::steady_clock::now();
     w.run(480);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -453,7 +453,7 @@ TEST(OtherShapesMeasure, DISABLED_BunnyDropOnMeshLevelBothWays) {
         exact ? "exact triangles" : "dense level SDF", wall, 1e3 * wall / 480, w.contacts->statistics().ccdSeconds,
         level ? (std::to_string(std::int64_t(level->field().grid().nodeCounts().prod()) * 4 / 1000000) + " MB").c_str()
               : "none");
-    EXPECT_LT(toVec3(body.getLinearVelocity()).norm(), 0.05);
+    EXPECT_LT(bullet::toVec3(body.getLinearVelocity()).norm(), 0.05);
     EXPECT_GT(lowestShellPoint(body, *bunny), -0.035);  // above the terrain's lowest
     EXPECT_GT(w.contacts->lastStepContactCount(), 0);
   }

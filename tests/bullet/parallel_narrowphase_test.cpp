@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "../../bullet_ext/src/bullet_shape_fields.h"
-#include "../../bullet_ext/src/deferred_queries.h"
-#include "../../bullet_ext/src/narrowphase_pool.h"
+#include "../../bullet_ext/src/shapes/bullet_shape_fields.h"
+#include "../../bullet_ext/src/parallel/deferred_queries.h"
+#include "../../bullet_ext/src/parallel/narrowphase_pool.h"
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
 
@@ -35,10 +35,10 @@ struct ParallelRun {
 ParallelRun runBunnyDrop(int threads, int frames, SdfccdContactMode mode) {
   Scene scene = loadScene(std::string(SDFCCD_ASSETS_DIR) + "/scenes/drop-bunnies.json");
   scene.contact.mode = mode;
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.narrowphaseThreads = threads;
   settings.cacheDir = "textbook-model-cache";  // the bunny's field and shell, built once for the suites
-  SceneWorld world(scene, settings);
+  bullet::SceneWorld world(scene, settings);
   for (int f = 0; f < frames; ++f) world.step();
   return {world.stateHash(), world.contacts().statistics().ccdQueries, world.contacts().statistics().deferredQueries};
 }
@@ -64,7 +64,7 @@ TEST(ParallelNarrowphase, SolverDropIdenticalFor1And2Threads) {
 }
 
 /// The ground plane's body of a SceneWorld.
-btCollisionObject* groundOf(SceneWorld& world) {
+btCollisionObject* groundOf(bullet::SceneWorld& world) {
   btCollisionObjectArray& objects = world.world().getCollisionObjectArray();
   for (int i = 0; i < objects.size(); ++i) {
     if (objects[i]->getCollisionShape()->getShapeType() == STATIC_PLANE_PROXYTYPE) return objects[i];
@@ -85,13 +85,13 @@ TEST(ParallelNarrowphase, SleepingPileRunsNoCcd) {
         "position": [0, 0.1498, 0], "points": 200, "resolution": 16 },
       { "name": "falling", "primitive": { "type": "box", "half_extents": [0.05, 0.05, 0.05] }, "mass": 1.0,
         "position": [0, 3.0, 0], "points": 200, "resolution": 16 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   btCollisionObject* ground = groundOf(world);
   ASSERT_NE(ground, nullptr);
   ground->setActivationState(DISABLE_DEACTIVATION);   // Bullet now dispatches every pair with the ground
   world.body(2).setActivationState(ISLAND_SLEEPING);  // held up there, asleep, until the pile sleeps too
   for (int f = 0; f < 200; ++f) world.step();
-  const SdfccdContactStatistics& stats = world.contacts().statistics();
+  const bullet::ContactStatistics& stats = world.contacts().statistics();
   // Awake, the two resting boxes run their CCD every step: each against the ground (one role each; the plane's
   // box is infinite, so the middle box's pair exists too) and bottom-middle (two roles).
   std::int64_t before = stats.ccdQueries;
@@ -137,7 +137,7 @@ namespace {
 // Every index of every batch runs exactly once, whatever the thread count and batch size (empty batches too).
 TEST(NarrowphasePool, EveryIndexOnceForManyBatches) {
   for (int threads : {1, 2, 4}) {
-    detail::NarrowphasePool pool(threads);
+    bullet::detail::NarrowphasePool pool(threads);
     EXPECT_EQ(pool.threads(), threads);
     std::vector<std::atomic<int>> hits(64);
     int expected[64] = {};
@@ -154,19 +154,19 @@ TEST(NarrowphasePool, EveryIndexOnceForManyBatches) {
 // A query that throws on a worker is rethrown where its result is taken; a result is taken once; unknown keys
 // have none.
 TEST(DeferredQueries, ResultsTakenOnceAndErrorsRethrown) {
-  detail::NarrowphasePool pool(2);
-  detail::DeferredQueries queries;
+  bullet::detail::NarrowphasePool pool(2);
+  bullet::detail::DeferredQueries queries;
   int manifolds[3];
-  queries.add(&manifolds[0], 0, [](detail::RoleResult& out) { out.query.ccdSeconds = 1.5; });
-  queries.add(&manifolds[0], 1, [](detail::RoleResult& out) { out.query.ccdSeconds = 2.5; });
-  queries.add(&manifolds[1], 0, [](detail::RoleResult&) { throw std::runtime_error("query failed"); });
+  queries.add(&manifolds[0], 0, [](bullet::detail::RoleResult& out) { out.query.ccdSeconds = 1.5; });
+  queries.add(&manifolds[0], 1, [](bullet::detail::RoleResult& out) { out.query.ccdSeconds = 2.5; });
+  queries.add(&manifolds[1], 0, [](bullet::detail::RoleResult&) { throw std::runtime_error("query failed"); });
   EXPECT_EQ(queries.size(), 3u);
   EXPECT_EQ(queries.take(&manifolds[0], 0), nullptr) << "not computed yet";
   queries.runAll(pool);
-  const detail::RoleResult* second = queries.take(&manifolds[0], 1);
+  const bullet::detail::RoleResult* second = queries.take(&manifolds[0], 1);
   ASSERT_NE(second, nullptr);
   EXPECT_EQ(second->query.ccdSeconds, 2.5);
-  const detail::RoleResult* first = queries.take(&manifolds[0], 0);
+  const bullet::detail::RoleResult* first = queries.take(&manifolds[0], 0);
   ASSERT_NE(first, nullptr);
   EXPECT_EQ(first->query.ccdSeconds, 1.5);
   EXPECT_EQ(queries.take(&manifolds[0], 0), nullptr) << "taken twice";
@@ -180,7 +180,7 @@ TEST(DeferredQueries, ResultsTakenOnceAndErrorsRethrown) {
 // runs once and reads what was written before it was published (TSan checks the hand-over in the CI).
 TEST(NarrowphasePool, StreamedBatchRunsEveryPublishedTaskOnceAfterItsInput) {
   for (int threads : {1, 2, 4}) {
-    detail::NarrowphasePool pool(threads);
+    bullet::detail::NarrowphasePool pool(threads);
     for (int batch = 0; batch < 50; ++batch) {
       const std::size_t total = static_cast<std::size_t>(37 * batch % 101);
       std::vector<std::size_t> input(total, 0);
@@ -208,7 +208,7 @@ TEST(NarrowphasePool, StreamedBatchRunsEveryPublishedTaskOnceAfterItsInput) {
 // worker's tasks are a prefix of the batch and the caller's the rest, every batch (so a task tends to stay on one
 // core from step to step). Tasks take a few microseconds, so that both threads get some.
 TEST(NarrowphasePool, WorkersClaimTheFrontAndTheCallerTheBack) {
-  detail::NarrowphasePool pool(2);
+  bullet::detail::NarrowphasePool pool(2);
   const std::thread::id caller = std::this_thread::get_id();
   int callerRan = 0;
   int workerRan = 0;
@@ -244,8 +244,8 @@ TEST(NarrowphasePool, WorkersClaimTheFrontAndTheCallerTheBack) {
 // A streamed DeferredQueries batch computes what was added, refuses more than its capacity (the role is then
 // computed when Bullet reaches it), and keeps stashed inputs for the step.
 TEST(DeferredQueries, StreamedBatchHonoursItsCapacityAndKeepsStashedInputs) {
-  detail::NarrowphasePool pool(2);
-  detail::DeferredQueries queries;
+  bullet::detail::NarrowphasePool pool(2);
+  bullet::detail::DeferredQueries queries;
   int manifolds[12];
   for (int step = 0; step < 3; ++step) {
     queries.clear();
@@ -253,12 +253,12 @@ TEST(DeferredQueries, StreamedBatchHonoursItsCapacityAndKeepsStashedInputs) {
     for (int m = 0; m < 12; ++m) {
       const double& kept = queries.stash(double(100 * step + m));
       const bool added =
-          queries.add(&manifolds[m], 0, [&kept](detail::RoleResult& out) { out.query.ccdSeconds = kept; });
+          queries.add(&manifolds[m], 0, [&kept](bullet::detail::RoleResult& out) { out.query.ccdSeconds = kept; });
       EXPECT_EQ(added, m < 10) << "query " << m;
     }
     queries.finish();
     for (int m = 0; m < 12; ++m) {
-      const detail::RoleResult* result = queries.take(&manifolds[m], 0);
+      const bullet::detail::RoleResult* result = queries.take(&manifolds[m], 0);
       if (m >= 10) {
         EXPECT_EQ(result, nullptr);
         continue;
@@ -276,7 +276,7 @@ TEST(ConvexShapeCache, AddressLookupFollowsChangesAndEvictsIdleEntries) {
   for (int corner = 0; corner < 8; ++corner) {
     hull.addPoint(btVector3(corner & 1 ? 0.1f : -0.1f, corner & 2 ? 0.2f : -0.2f, corner & 4 ? 0.3f : -0.3f));
   }
-  detail::ConvexShapeCache cache;
+  bullet::detail::ConvexShapeCache cache;
   cache.evictIdle(0, 10);
   const ConvexPolytopeField* first = cache.field(&hull);
   ASSERT_NE(first, nullptr);

@@ -1,5 +1,6 @@
 // The dispatcher finds our algorithm for every pair involving SdfccdShape, in both orders, for contacts and
-// closest points (compounds keep Bullet's compound algorithms, which dispatch their children back to ours).
+// closest points (compounds keep Bullet's compound algorithms, which dispatch their children back to ours), for as
+// long as the ContactSystem that installed it lives.
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcherMt.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btEmptyCollisionAlgorithm.h>
@@ -13,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "../../bullet_ext/src/algorithm/collision_algorithm.h"
 #include "bullet_test_util.h"
 #include "bullet_world_fixture.h"
-#include "sdfccd/bullet/sdfccd_collision_algorithm.h"
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -42,7 +43,7 @@ Found find(btCollisionDispatcher& dispatcher, btCollisionShape* a, btCollisionSh
   btCollisionAlgorithm* algorithm = dispatcher.findAlgorithm(&wrapA, &wrapB, nullptr, type);
   if (algorithm == nullptr) return Found::None;
   Found found = Found::Other;
-  if (dynamic_cast<SdfccdCollisionAlgorithm*>(algorithm) != nullptr) found = Found::Ours;
+  if (dynamic_cast<bullet::detail::CollisionAlgorithm*>(algorithm) != nullptr) found = Found::Ours;
   if (dynamic_cast<btEmptyAlgorithm*>(algorithm) != nullptr) found = Found::Empty;
   algorithm->~btCollisionAlgorithm();
   dispatcher.freeCollisionAlgorithm(algorithm);
@@ -52,9 +53,9 @@ Found find(btCollisionDispatcher& dispatcher, btCollisionShape* a, btCollisionSh
 TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
-  auto system = registerSdfccdAlgorithms(&dispatcher);
-  SdfccdShape ours(smallSphereModel());
-  SdfccdShape other(smallSphereModel());
+  const bullet::ContactSystem system(dispatcher);
+  bullet::SdfccdShape ours(smallSphereModel());
+  bullet::SdfccdShape other(smallSphereModel());
   btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
   btBoxShape box(btVector3(1, 1, 1));
   btSphereShape sphere(1);
@@ -70,25 +71,25 @@ TEST(Registration, EveryPairInBothOrdersAndBothQueryTypes) {
     EXPECT_EQ(find(dispatcher, &cylinder, &ours, type), Found::Ours);
   }
   EXPECT_EQ(ours.getShapeType(), CUSTOM_CONCAVE_SHAPE_TYPE);
-  EXPECT_TRUE(isSdfccdShape(&ours));
-  EXPECT_FALSE(isSdfccdShape(&box));
+  EXPECT_TRUE(bullet::isSdfccdShape(&ours));
+  EXPECT_FALSE(bullet::isSdfccdShape(&box));
 }
 
 // isSdfccdShape knows our shape by its name's address first, then by its characters: a shape of our type id is
 // ours exactly when its name reads "SdfccdShape", wherever that text is stored.
 TEST(Registration, OurShapeIsKnownByTypeAndNameWhereverTheNameLives) {
-  SdfccdShape ours(smallSphereModel());
+  bullet::SdfccdShape ours(smallSphereModel());
   EXPECT_STREQ(ours.getName(), "SdfccdShape");
-  SdfccdShape other(smallSphereModel());
+  bullet::SdfccdShape other(smallSphereModel());
   EXPECT_EQ(ours.getName(), other.getName());  // one address for every instance (the fast path)
   const test::UserConcaveShape copyOfOurName(CUSTOM_CONCAVE_SHAPE_TYPE,
                                              std::string("Sdfccd") + "Shape");  // same text, other address
   ASSERT_NE(copyOfOurName.getName(), ours.getName());
-  EXPECT_TRUE(isSdfccdShape(&copyOfOurName));
-  EXPECT_FALSE(isSdfccdShape(static_cast<const btCollisionShape*>(nullptr)));
+  EXPECT_TRUE(bullet::isSdfccdShape(&copyOfOurName));
+  EXPECT_FALSE(bullet::isSdfccdShape(static_cast<const btCollisionShape*>(nullptr)));
   for (const char* name : {"SdfccdShap", "SdfccdShape ", "sdfccdShape", "SDF", ""}) {
     const test::UserConcaveShape user(CUSTOM_CONCAVE_SHAPE_TYPE, name);
-    EXPECT_FALSE(isSdfccdShape(&user)) << '"' << name << '"';
+    EXPECT_FALSE(bullet::isSdfccdShape(&user)) << '"' << name << '"';
   }
 }
 
@@ -109,16 +110,16 @@ TEST(Registration, RemovingABodyMidRunLeavesTheOthersTheirOwnMotions) {
     bool onlyTheBoxOnTheGround = true;
   };
   const auto run = [&box](bool remove) {
-    SdfccdContactSettings settings;
+    bullet::ContactSettings settings;
     settings.mode = SdfccdContactMode::Penalty;  // the force on the box is its contact's, reported per step
     test::BulletTestWorld w{settings};
     // In this order the step meets the removed box first, then the ground, then the box that stays (Bullet's pairs
     // list the earlier added body first); after the removal the box that stays has index 0, whose guess is the
     // removed box's place, 0, and the ground, met first now, holds that place.
-    btRigidBody& removed = w.add(std::make_unique<SdfccdShape>(box), 1.0, Vec3(-0.5, 0.06, 0.0));
+    btRigidBody& removed = w.add(std::make_unique<bullet::SdfccdShape>(box), 1.0, Vec3(-0.5, 0.06, 0.0));
     btRigidBody& ground =
         w.add(std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(0)), 0.0, Vec3::Zero());
-    btRigidBody& stays = w.add(std::make_unique<SdfccdShape>(box), 1.0, Vec3(0.5, 0.06, 0.0));
+    btRigidBody& stays = w.add(std::make_unique<bullet::SdfccdShape>(box), 1.0, Vec3(0.5, 0.06, 0.0));
     EXPECT_EQ(stays.getWorldArrayIndex(), 2);
     w.step(300, 0.001);
     EXPECT_EQ(w.contacts->lastStepContacts().size(), 2u);  // both boxes on the ground
@@ -129,7 +130,7 @@ TEST(Registration, RemovingABodyMidRunLeavesTheOthersTheirOwnMotions) {
     Run r;
     for (int i = 0; i < 300; ++i) {
       w.step(1, 0.001);
-      for (const SdfccdPairContact& pair : w.contacts->lastStepContacts()) {
+      for (const bullet::PairContact& pair : w.contacts->lastStepContacts()) {
         ++r.pairsAfter;
         if (pair.shellObject != &stays) continue;
         r.onlyTheBoxOnTheGround = r.onlyTheBoxOnTheGround && pair.fieldObject == &ground;
@@ -161,8 +162,8 @@ TEST(Registration, RemovingABodyMidRunLeavesTheOthersTheirOwnMotions) {
 TEST(Registration, ConvexShapesInBothOrders) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
-  auto system = registerSdfccdAlgorithms(&dispatcher);
-  SdfccdShape ours(smallSphereModel());
+  const bullet::ContactSystem system(dispatcher);
+  bullet::SdfccdShape ours(smallSphereModel());
   btBoxShape box(btVector3(1, 1, 1));
   btSphereShape sphere(1);
   btCapsuleShape capsuleY(0.5, 1);
@@ -183,7 +184,7 @@ TEST(Registration, ConvexShapesInBothOrders) {
 
 TEST(Registration, ShapeMassPropertiesAndScaling) {
   auto model = smallSphereModel();
-  SdfccdShape shape(model);
+  bullet::SdfccdShape shape(model);
   btVector3 inertia;
   shape.calculateLocalInertia(2.0f, inertia);
   // A fine icosphere is close to a solid sphere: 2/5 m r^2 (the polyhedron is slightly smaller).
@@ -191,7 +192,7 @@ TEST(Registration, ShapeMassPropertiesAndScaling) {
   EXPECT_NEAR(inertia.x(), inertia.y(), 1e-6);
   EXPECT_THROW(shape.setLocalScaling(btVector3(2, 2, 2)), Error);
   EXPECT_NO_THROW(shape.setLocalScaling(btVector3(1, 1, 1)));
-  EXPECT_THROW(SdfccdShape(nullptr), Error);
+  EXPECT_THROW(bullet::SdfccdShape(nullptr), Error);
 }
 
 // A ray cast reaches the mesh through processAllTriangles (the reason for a concave-range type id).
@@ -200,8 +201,8 @@ TEST(Registration, RayTestHitsTheMesh) {
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
   btCollisionWorld world(&dispatcher, &broadphase, &configuration);
-  auto system = registerSdfccdAlgorithms(&dispatcher);
-  SdfccdShape shape(smallSphereModel());
+  const bullet::ContactSystem system(world);
+  bullet::SdfccdShape shape(smallSphereModel());
   btCollisionObject object;
   object.setCollisionShape(&shape);
   world.addCollisionObject(&object);
@@ -212,20 +213,21 @@ TEST(Registration, RayTestHitsTheMesh) {
   world.removeCollisionObject(&object);
 }
 
-// A sphere body dropped on a plane in a world whose registration result was thrown away: the registration owns
-// the system (no use-after-free; run under ASan too) and the contacts work.
-TEST(Registration, DroppingTheReturnedSystemIsSafe) {
+// A sphere body dropped on a plane rests on it while the contact system lives; once it is gone, our pairs get no
+// contact and the world still steps (its pairs' algorithms were freed with it: no use-after-free, run under ASan
+// too).
+TEST(Registration, DestroyingTheSystemTakesTheContactOut) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
   world.setGravity(btVector3(0, -9.81f, 0));
-  registerSdfccdAlgorithms(&world);  // dropped
+  std::optional<bullet::ContactSystem> system(std::in_place, world);
   btStaticPlaneShape planeShape(btVector3(0, 1, 0), 0);
   btRigidBody ground(0, nullptr, &planeShape);
   world.addRigidBody(&ground);
-  SdfccdShape shape(smallSphereModel());
+  bullet::SdfccdShape shape(smallSphereModel());
   btVector3 inertia;
   shape.calculateLocalInertia(1, inertia);
   btRigidBody ball(1, nullptr, &shape, inertia);
@@ -234,104 +236,79 @@ TEST(Registration, DroppingTheReturnedSystemIsSafe) {
   for (int i = 0; i < 240; ++i) world.stepSimulation(1.0f / 240, 0);
   // It rests on the plane: the sphere's radius above it, within a few cells of penetration.
   EXPECT_NEAR(ball.getWorldTransform().getOrigin().y(), 0.1, 0.01);
-  // Released before the world goes: our pairs get no contact, the world still steps.
-  releaseSdfccdAlgorithms(&world);
+  system.reset();
   for (int i = 0; i < 60; ++i) world.stepSimulation(1.0f / 240, 0);
   EXPECT_LT(ball.getWorldTransform().getOrigin().y(), 0.05);  // it falls through the plane now
-  releaseSdfccdAlgorithms(&world);                            // twice: nothing to do
   world.removeRigidBody(&ball);
   world.removeRigidBody(&ground);
 }
 
-// A second registration on the same world replaces the first (no stale action or algorithm).
-TEST(Registration, RegisteringTwiceReplacesTheFirst) {
+// A dispatcher takes one live contact system: a second one is refused while the first lives, and accepted once it
+// is gone; it then serves the pairs the world already has.
+TEST(Registration, OneLiveSystemPerDispatcher) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
-  std::weak_ptr<SdfccdContactSystem> first = registerSdfccdAlgorithms(&world);
-  EXPECT_FALSE(first.expired());  // kept by the registration
-  auto second = registerSdfccdAlgorithms(&world);
-  EXPECT_TRUE(first.expired());
-  // Steps with a body in contact: a left-over action or algorithm of the first system would be a use-after-free
-  // (ASan), and the second system sees the contacts.
+  std::optional<bullet::ContactSystem> first(std::in_place, world);
+  test::expectOneLineError([&] { const bullet::ContactSystem second(world); }, "live ContactSystem");
+  test::expectOneLineError([&] { const bullet::ContactSystem second(dispatcher); }, "live ContactSystem");
   btStaticPlaneShape planeShape(btVector3(0, 1, 0), 0);
   btRigidBody ground(0, nullptr, &planeShape);
   world.addRigidBody(&ground);
-  SdfccdShape shape(smallSphereModel());
+  bullet::SdfccdShape shape(smallSphereModel());
   btRigidBody ball(1, nullptr, &shape, btVector3(0.004f, 0.004f, 0.004f));
   ball.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.1f, 0)));
   world.addRigidBody(&ball);
   for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
-  EXPECT_GT(second->statistics().ccdQueries, 0);
-  auto third = registerSdfccdAlgorithms(&world);  // with live pairs: their algorithms are recreated
+  EXPECT_GT(first->statistics().ccdQueries, 0);
+  first.reset();
+  const bullet::ContactSystem second(world);  // with live pairs: their algorithms are made anew, ours
   for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
-  EXPECT_GT(third->statistics().ccdQueries, 0);
+  EXPECT_GT(second.statistics().ccdQueries, 0);
   EXPECT_NEAR(ball.getWorldTransform().getOrigin().y(), 0.1, 0.01);
-  releaseSdfccdAlgorithms(&world);
   world.removeRigidBody(&ball);
   world.removeRigidBody(&ground);
 }
 
 // Our sphere as a compound's child resting on the bunny: Bullet's compound algorithm holds a child algorithm of
-// ours. Releasing and registering again must free it with the rest (else it keeps calling the first system: a
-// use-after-free once that system is gone; held here, so the test sees which system serves the child).
-TEST(Registration, CompoundChildAlgorithmsFollowReleaseAndReregistration) {
+// ours. A contact system that goes must free it with the rest (else it keeps calling the system that went: a
+// use-after-free, run under ASan), and the next system serves the child.
+TEST(Registration, CompoundChildAlgorithmsGoWithTheSystem) {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
   world.setGravity(btVector3(0, -9.81f, 0));
-  std::shared_ptr<SdfccdContactSystem> first = registerSdfccdAlgorithms(&world);
-  SdfccdShape bunnyShape(test::buildTestBunny(2000));
+  std::optional<bullet::ContactSystem> system(std::in_place, world);
+  bullet::SdfccdShape bunnyShape(test::buildTestBunny(2000));
   btRigidBody bunny(0, nullptr, &bunnyShape);
   world.addRigidBody(&bunny);
-  SdfccdShape child(smallSphereModel());
+  bullet::SdfccdShape child(smallSphereModel());
   btCompoundShape compound;
   compound.addChildShape(btTransform::getIdentity(), &child);
   btRigidBody ball(1, nullptr, &compound, btVector3(0.004f, 0.004f, 0.004f));
   ball.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.35f, 0)));
   world.addRigidBody(&ball);
   for (int i = 0; i < 120; ++i) world.stepSimulation(1.0f / 240, 0);
-  const std::int64_t firstQueries = first->statistics().ccdQueries;
-  ASSERT_GT(firstQueries, 0);  // the child pair met the bunny
+  ASSERT_GT(system->statistics().ccdQueries, 0);  // the child pair met the bunny
   const btTransform resting = ball.getWorldTransform();
-  auto putBack = [&] {  // on the bunny again (it falls through while nothing is registered)
+  auto putBack = [&] {  // on the bunny again (it falls through while no system is installed)
     ball.setWorldTransform(resting);
     ball.setLinearVelocity(btVector3(0, 0, 0));
     ball.setAngularVelocity(btVector3(0, 0, 0));
   };
-  releaseSdfccdAlgorithms(&world);
+  system.reset();
   for (int i = 0; i < 5; ++i) world.stepSimulation(1.0f / 240, 0);
-  EXPECT_EQ(first->statistics().ccdQueries, firstQueries) << "a child algorithm outlived the release";
   putBack();
-  auto second = registerSdfccdAlgorithms(&world);
+  system.emplace(world);
   for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
-  EXPECT_EQ(first->statistics().ccdQueries, firstQueries) << "a child algorithm outlived the re-registration";
-  EXPECT_GT(second->statistics().ccdQueries, 0);
-  first.reset();                                  // the first system goes: stepping on must not reach it (ASan)
-  auto third = registerSdfccdAlgorithms(&world);  // a live registration replaced through the world overload
-  for (int i = 0; i < 10; ++i) world.stepSimulation(1.0f / 240, 0);
-  EXPECT_GT(third->statistics().ccdQueries, 0);
-  releaseSdfccdAlgorithms(&world);
+  EXPECT_GT(system->statistics().ccdQueries, 0);
+  system.reset();
   world.removeRigidBody(&ball);
   world.removeRigidBody(&bunny);
-}
-
-// The dispatcher overload cannot reach the pairs whose algorithms point at a live registration's system:
-// registering the same dispatcher again is refused; a new dispatcher at a freed one's address is not.
-TEST(Registration, DispatcherRegisteredTwiceIsRefused) {
-  btDefaultCollisionConfiguration configuration;
-  std::optional<btCollisionDispatcher> dispatcher;
-  dispatcher.emplace(&configuration);
-  auto system = registerSdfccdAlgorithms(&*dispatcher);
-  test::expectOneLineError([&] { registerSdfccdAlgorithms(&*dispatcher); }, "already registered");
-  EXPECT_EQ(system.use_count(), 2);  // still the registration's
-  dispatcher.reset();
-  dispatcher.emplace(&configuration);  // the same address, a fresh dispatcher
-  EXPECT_NO_THROW(registerSdfccdAlgorithms(&*dispatcher));
 }
 
 // Bullet's multi-threaded world and dispatcher are refused with a clear error.
@@ -341,14 +318,14 @@ TEST(Registration, MultiThreadedWorldIsRefused) {
   btSetTaskScheduler(btGetSequentialTaskScheduler());
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcherMt dispatcherMt(&configuration);
-  EXPECT_THROW(registerSdfccdAlgorithms(&dispatcherMt), Error);
+  EXPECT_THROW(bullet::ContactSystem{dispatcherMt}, Error);
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
   btConstraintSolverPoolMt pool(1);
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorldMt world(&dispatcher, &broadphase, &pool, &solver, &configuration);
   try {
-    registerSdfccdAlgorithms(&world);
+    const bullet::ContactSystem system(world);
     ADD_FAILURE() << "btDiscreteDynamicsWorldMt was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("btDiscreteDynamicsWorldMt"), std::string::npos) << e.what();

@@ -19,18 +19,18 @@ std::string withBody(const std::string& top, const std::string& body = kBody) {
 
 TEST(Scene, EffectsNotListedAreNotComputed) {
   const Scene plain = test::sceneFromText(withBody("\"effects\": [\"ground\"]"));
-  const SdfccdContactSettings s = contactSettingsFor(plain);
+  const bullet::ContactSettings s = bullet::contactSettingsFor(plain);
   EXPECT_FALSE(s.penalty.enableDamping);
   EXPECT_FALSE(s.penalty.enableRotation);
   EXPECT_EQ(plain.effectList(), "ground");
   // No gravity effect: nothing falls.
-  SceneWorld world(test::sceneFromText(withBody("\"effects\": [\"ground\"]", R"({ "primitive": { "type": "box",
+  bullet::SceneWorld world(test::sceneFromText(withBody("\"effects\": [\"ground\"]", R"({ "primitive": { "type": "box",
       "half_extents": [0.1, 0.1, 0.1] }, "mass": 1.0, "position": [0, 1, 0], "resolution": 8, "points": 50 })")));
   for (int f = 0; f < 20; ++f) world.step();
   EXPECT_EQ(world.bodyState(0).position.y(), 1.0);
   const Scene all = test::sceneFromText(withBody("\"effects\": [\"rotation\", \"damping\", \"gravity\"]"));
-  EXPECT_TRUE(contactSettingsFor(all).penalty.enableDamping);
-  EXPECT_TRUE(contactSettingsFor(all).penalty.enableRotation);
+  EXPECT_TRUE(bullet::contactSettingsFor(all).penalty.enableDamping);
+  EXPECT_TRUE(bullet::contactSettingsFor(all).penalty.enableRotation);
 }
 
 // The same scene twice gives the same final state, bit for bit.
@@ -46,7 +46,7 @@ TEST(Scene, DeterministicResultHash) {
         "position": [0.01, 0.2, 0], "points": 150, "resolution": 12 } ] })";
   std::uint64_t hashes[2];
   for (int run = 0; run < 2; ++run) {
-    SceneWorld world(test::sceneFromText(text));
+    bullet::SceneWorld world(test::sceneFromText(text));
     for (int f = 0; f < 250; ++f) world.step();
     hashes[run] = world.stateHash();
   }
@@ -55,17 +55,17 @@ TEST(Scene, DeterministicResultHash) {
 
 // A constraint solver asked for in C++ where the scene runs penalty mode is refused, as the scene key is.
 TEST(Scene, SolverOverrideInPenaltyModeIsRefused) {
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.solver = ContactSolver::Mlcp;
   const Scene penalty = test::sceneFromText(withBody("\"contact\": { \"mode\": \"penalty\" }"));
   try {
-    SceneWorld world(penalty, settings);
+    bullet::SceneWorld world(penalty, settings);
     FAIL() << "penalty mode accepted a constraint solver";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("solver mode"), std::string::npos) << e.what();
   }
   const Scene solver = test::sceneFromText(withBody("\"contact\": { \"mode\": \"solver\" }"));
-  EXPECT_NO_THROW(SceneWorld(solver, settings));
+  EXPECT_NO_THROW(bullet::SceneWorld(solver, settings));
 }
 
 }  // namespace

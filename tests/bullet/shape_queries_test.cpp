@@ -50,7 +50,7 @@ const std::vector<btVector3>& bunnyCorners() {
     const TriangleMesh& mesh = bunnyModel()->meshInBody();
     std::vector<btVector3> out;
     for (const auto& t : mesh.triangles) {
-      for (int k = 0; k < 3; ++k) out.push_back(toBtVector3(mesh.vertices[std::size_t(t[std::size_t(k)])]));
+      for (int k = 0; k < 3; ++k) out.push_back(bullet::toBtVector3(mesh.vertices[std::size_t(t[std::size_t(k)])]));
     }
     return out;
   }();
@@ -75,9 +75,9 @@ class QueryWorld {
   QueryWorld() : model_(bunnyModel()), ours_(model_) {
     const TriangleMesh& mesh = model_->meshInBody();
     for (const auto& t : mesh.triangles) {
-      triangles_.addTriangle(toBtVector3(mesh.vertices[std::size_t(t[0])]),
-                             toBtVector3(mesh.vertices[std::size_t(t[1])]),
-                             toBtVector3(mesh.vertices[std::size_t(t[2])]));
+      triangles_.addTriangle(bullet::toBtVector3(mesh.vertices[std::size_t(t[0])]),
+                             bullet::toBtVector3(mesh.vertices[std::size_t(t[1])]),
+                             bullet::toBtVector3(mesh.vertices[std::size_t(t[2])]));
     }
     bvh_ = std::make_unique<btBvhTriangleMeshShape>(&triangles_, true);
     pose_ = btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), 0.7f), btVector3(0.3f, -0.2f, 0.1f));
@@ -95,7 +95,7 @@ class QueryWorld {
   const BodyModel& model() const { return *model_; }
   const btTransform& pose() const { return pose_; }
   double size() const { return model_->boundsInBody().diagonal().norm(); }
-  btVector3 centreWorld() const { return pose_(toBtVector3(model_->boundsInBody().center())); }
+  btVector3 centreWorld() const { return pose_(bullet::toBtVector3(model_->boundsInBody().center())); }
   btCollisionWorld& ours() { return oursWorld_; }
   btCollisionWorld& bvh() { return bvhWorld_; }
 
@@ -124,7 +124,7 @@ class QueryWorld {
 
  private:
   std::shared_ptr<const BodyModel> model_;
-  SdfccdShape ours_;
+  bullet::SdfccdShape ours_;
   btTriangleMesh triangles_;
   std::unique_ptr<btBvhTriangleMeshShape> bvh_;
   btTransform pose_;
@@ -194,12 +194,12 @@ TEST(ShapeQueries, GrazingAndShortRays) {
     SCOPED_TRACE(i);
     for (double offset : {-0.05 * cell, 0.0, 0.05 * cell, 0.5 * cell}) {
       const Vec3 p = centroid + offset * normal;
-      w.expectSameClosestHit(w.pose()(toBtVector3(p - 3 * cell * along)), w.pose()(toBtVector3(p + 3 * cell * along)));
+      w.expectSameClosestHit(w.pose()(bullet::toBtVector3(p - 3 * cell * along)), w.pose()(bullet::toBtVector3(p + 3 * cell * along)));
     }
     // Short rays along the normal, ending before and after the surface.
     for (double end : {0.01 * cell, -0.01 * cell}) {
-      w.expectSameClosestHit(w.pose()(toBtVector3(centroid + 0.2 * cell * normal)),
-                             w.pose()(toBtVector3(centroid + end * normal)));
+      w.expectSameClosestHit(w.pose()(bullet::toBtVector3(centroid + 0.2 * cell * normal)),
+                             w.pose()(bullet::toBtVector3(centroid + end * normal)));
     }
   }
 }
@@ -306,7 +306,7 @@ TEST(ShapeQueries, ConvexSweepsMatchTheTriangleMesh) {
     EXPECT_NEAR(ours.m_closestHitFraction, bvh.m_closestHitFraction, 1e-5);
     // The contact point is not unique when several triangles are touched at the same fraction (the callback
     // keeps the last, and the order differs): ours must lie on the surface, within a cell of the field's zero.
-    const Vec3 pointInBody = toVec3(w.pose().inverse() * ours.m_hitPointWorld);
+    const Vec3 pointInBody = bullet::toVec3(w.pose().inverse() * ours.m_hitPointWorld);
     EXPECT_LT(std::abs(w.model().field().distance(w.model().bodyFromField().inverse() * pointInBody)),
               w.model().cellSize());
   }
@@ -318,22 +318,22 @@ TEST(BulletPose, RoundTripsAndTheMeshFilePose) {
   Rigid r = Rigid::Identity();
   r.linear() = Eigen::AngleAxisd(0.8, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
   r.translation() = Vec3(0.1, -2.0, 3.5);
-  const Rigid back = toRigid(toBtTransform(r));
+  const Rigid back = bullet::toRigid(bullet::toBtTransform(r));
   EXPECT_LT((back.matrix() - r.matrix()).norm(), 1e-6);
-  EXPECT_EQ(toVec3(btVector3(1, 2, 3)), Vec3(1, 2, 3));
+  EXPECT_EQ(bullet::toVec3(btVector3(1, 2, 3)), Vec3(1, 2, 3));
   const auto bunny = bunnyModel();
   // The bunny's body frame is rotated and shifted from its file's frame.
   EXPECT_GT(Eigen::AngleAxisd(bunny->modelFromBody().linear()).angle(), 0.3);
   const btTransform meshPose(btQuaternion(btVector3(0, 1, 0), 0.5f), btVector3(1, 2, 3));
-  const btTransform body = bodyTransformForMeshPose(*bunny, meshPose);
+  const btTransform body = bullet::bodyTransformForMeshPose(*bunny, meshPose);
   // Every vertex of the body-frame mesh lands where the file's pose puts the file's vertex (modelFromBody * v).
   const TriangleMesh& mesh = bunny->meshInBody();
   for (std::size_t i = 0; i < mesh.vertices.size(); i += 997) {
     const Vec3 inFile = bunny->modelFromBody() * mesh.vertices[i];
-    const btVector3 expected = meshPose(toBtVector3(inFile));
-    EXPECT_LT((body(toBtVector3(mesh.vertices[i])) - expected).length(), 1e-5f);
+    const btVector3 expected = meshPose(bullet::toBtVector3(inFile));
+    EXPECT_LT((body(bullet::toBtVector3(mesh.vertices[i])) - expected).length(), 1e-5f);
   }
-  const btTransform again = meshPoseOfBody(*bunny, body);
+  const btTransform again = bullet::meshPoseOfBody(*bunny, body);
   EXPECT_LT((again.getOrigin() - meshPose.getOrigin()).length(), 1e-5f);
   EXPECT_GT(again.getRotation().dot(meshPose.getRotation()), 1 - 1e-6f);
 }

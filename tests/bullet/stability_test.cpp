@@ -26,7 +26,7 @@ namespace stability_test {
 constexpr double kGravity = 9.81;  // m/s^2, the scenes' gravity (0, -g, 0)
 
 // Total mechanical energy of the dynamic bodies without the contact springs: kinetic + m g y (J).
-double mechanicalEnergy(const SceneWorld& world) {
+double mechanicalEnergy(const bullet::SceneWorld& world) {
   double energy = world.kineticEnergy();
   for (int i = 0; i < world.bodyCount(); ++i) {
     if (world.isStatic(i)) continue;
@@ -58,12 +58,12 @@ std::string boxBody(const std::string& name, double hx, double hy, double hz, do
 // The penalty energy stored at the current poses: sum of k d^2 / 2 over the shell points of every body that
 // are inside another body's field (both roles), d the depth (J). With the field-gradient direction the
 // spring forces are minus the gradient of this energy.
-double storedPenaltyEnergy(const SceneWorld& world, double k) {
+double storedPenaltyEnergy(const bullet::SceneWorld& world, double k) {
   double energy = 0.0;
   for (int a = 0; a < world.bodyCount(); ++a) {
     for (int b = 0; b < world.bodyCount(); ++b) {
       if (a == b) continue;
-      const SceneBodyState sa = world.bodyState(a), sb = world.bodyState(b);
+      const bullet::SceneBodyState sa = world.bodyState(a), sb = world.bodyState(b);
       Rigid worldFromA = Rigid::Identity(), worldFromB = Rigid::Identity();
       worldFromA.linear() = sa.orientation.toRotationMatrix();
       worldFromA.translation() = sa.position;
@@ -94,16 +94,16 @@ TEST(Stability, RestingBoxGainsNoEnergyAndDoesNotDriftFor100kSteps) {
       R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
            "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
       boxBody("box", 0.1, halfHeight, 0.1, mass, 0.052) + " ] }");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   ASSERT_EQ(world.model(0).shell().size(), 8u);
   constexpr int kSettle = 2000;
   for (int f = 0; f < kSettle; ++f) world.step();
   const double settledEnergy = mechanicalEnergy(world);
-  const SceneBodyState settled = world.bodyState(0);
+  const bullet::SceneBodyState settled = world.bodyState(0);
   double maxEnergyRise = -1e300, maxDrift = 0.0, maxYaw = 0.0, minY = 1e300, maxY = -1e300;
   for (int f = kSettle; f < kRestingSteps; ++f) {
     world.step();
-    const SceneBodyState s = world.bodyState(0);
+    const bullet::SceneBodyState s = world.bodyState(0);
     maxEnergyRise = std::max(maxEnergyRise, mechanicalEnergy(world) - settledEnergy);
     maxDrift = std::max(maxDrift, std::hypot(s.position.x(), s.position.z()));
     maxYaw = std::max(maxYaw, std::abs(yawOf(s.orientation)));
@@ -139,7 +139,7 @@ TEST(Stability, StackOfThreeBoxesRestsAtAnalyticHeights) {
       R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
            "contact": { "mode": "penalty", "stiffness": 4000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
       bodies + " ] }");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   // Settled: the slowest mode (rocking of the stack) has decayed below 1e-11 J of kinetic energy by then.
   for (int f = 0; f < 5000; ++f) world.step();
   const double settledEnergy = mechanicalEnergy(world);
@@ -148,7 +148,7 @@ TEST(Stability, StackOfThreeBoxesRestsAtAnalyticHeights) {
     world.step();
     maxEnergyRise = std::max(maxEnergyRise, mechanicalEnergy(world) - settledEnergy);
     for (int i = 0; i < 3; ++i) {
-      const SceneBodyState s = world.bodyState(i);
+      const bullet::SceneBodyState s = world.bodyState(i);
       maxDrift = std::max(maxDrift, std::hypot(s.position.x(), s.position.z()));
       maxYaw = std::max(maxYaw, std::abs(yawOf(s.orientation)));
     }
@@ -187,7 +187,7 @@ void expectMassRatioRests(double lowerMass, double upperMass, double timestep, d
       test::sceneFromText(R"({ "timestep": )" + std::to_string(timestep) +
                           R"(, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"], )" +
                           contact + R"(, "bodies": [ )" + bodies + " ] }");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   double maxDeviation = 0.0;
   for (int f = 0; f < steps; ++f) {
     world.step();
@@ -232,13 +232,13 @@ TEST(Stability, FastBoxIntoTheGroundDoesNotTunnelAndGainsNoEnergy) {
         R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
              "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 5.0, "direction": "field_gradient" }, "bodies": [ )" +
         boxBody("box", 0.1, h, 0.1, 1.0, 0.0) + " ] }");
-    SceneWorld probe(scene);
+    bullet::SceneWorld probe(scene);
     const double cell = probe.model(0).cellSize();
     const double speed = cellsPerStep * cell / scene.timestep;  // m/s
     Scene launched = scene;
     launched.bodies[0].position.y() = h + 2.5 * cellsPerStep * cell + 0.01;
     launched.bodies[0].velocity = Vec3(0, -speed, 0);
-    SceneWorld world(launched);
+    bullet::SceneWorld world(launched);
     const double launchEnergy = mechanicalEnergy(world);
     double maxEnergy = -1e300, minY = 1e300, maxPenetrationCells = 0.0;
     for (int f = 0; f < 1500; ++f) {
@@ -272,13 +272,13 @@ TEST(Stability, FastBoxIntoAThinPlateDoesNotTunnelAndGainsNoEnergy) {
              { "name": "plate", "primitive": { "type": "box", "half_extents": [0.3, 0.015, 0.3] }, "static": true,
                "points": 600, "resolution": 40 }, )" +
         boxBody("box", 0.05, 0.05, 0.05, 1.0, 1.0) + " ] }");
-    SceneWorld probe(scene);
+    bullet::SceneWorld probe(scene);
     const double cell = probe.model(0).cellSize();
     const double speed = cellsPerStep * cell / scene.timestep;
     Scene launched = scene;
     launched.bodies[1].position.y() = 0.015 + 0.05 + 2.5 * cellsPerStep * cell + 0.01;
     launched.bodies[1].velocity = Vec3(0, -speed, 0);
-    SceneWorld world(launched);
+    bullet::SceneWorld world(launched);
     const double launchEnergy = world.kineticEnergy();
     double maxEnergy = 0.0, minY = 1e300;
     for (int f = 0; f < 300; ++f) {
@@ -307,7 +307,7 @@ TEST(Stability, DeeplyInterpenetratedBoxesSeparateWithoutEnergyGain) {
              "position": [0, 0, 0], "points": 150, "resolution": 16 },
            { "name": "b", "primitive": { "type": "box", "half_extents": [0.1, 0.1, 0.1] }, "mass": 1.0,
              "position": [0.16, 0.12, 0.1], "points": 150, "resolution": 16 } ] })");
-  SceneWorld world(scene);
+  bullet::SceneWorld world(scene);
   const double stored = storedPenaltyEnergy(world, k);
   ASSERT_GT(stored, 0.01);
   double maxKinetic = 0.0;
@@ -347,7 +347,7 @@ TEST(Stability, CoincidentAndNestedBodiesStayBounded) {
         test::sceneFromText(std::string(R"({ "timestep": 0.001, "sleeping": false, "effects": ["damping", "rotation"],
              "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 2.0, "direction": "field_gradient" }, "bodies": [ )") +
                             bodies + " ] }");
-    SceneWorld world(scene);
+    bullet::SceneWorld world(scene);
     const double stored = storedPenaltyEnergy(world, 2000.0);
     double maxKinetic = 0.0, maxDistance = 0.0;
     for (int f = 0; f < 1000; ++f) {
@@ -373,7 +373,7 @@ TEST(Stability, ShellNormalForceDirectionDriftsWhereFieldGradientRests) {
         R"({ "timestep": 0.001, "sleeping": false, "effects": ["gravity", "ground", "damping", "rotation"],
              "contact": { "mode": "penalty", "stiffness": 2000.0, "damping": 5.0, "direction": ")" +
         direction + R"(" }, "bodies": [ )" + boxBody("box", 0.1, 0.05, 0.1, 1.0, 0.052) + " ] }");
-    SceneWorld world(scene);
+    bullet::SceneWorld world(scene);
     for (int f = 0; f < 3000; ++f) world.step();
     return std::make_pair(std::hypot(world.bodyState(0).position.x(), world.bodyState(0).position.z()),
                           world.kineticEnergy());

@@ -16,7 +16,7 @@
 #include "bullet/compound_on_ground.h"
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "sdfccd/response/contact_material.h"
@@ -60,8 +60,8 @@ Scene textbookScene(const std::vector<std::string>& bodies, double mu, const Vec
   return test::sceneFromText(j.str());
 }
 
-SceneWorldSettings cached() {
-  SceneWorldSettings s;
+bullet::SceneWorldSettings cached() {
+  bullet::SceneWorldSettings s;
   s.cacheDir = "textbook-model-cache";
   return s;
 }
@@ -87,7 +87,7 @@ struct InclineResult {
 InclineResult runIncline(double thetaDegrees, double mu, double seconds) {
   const double theta = thetaDegrees * kPi / 180.0;
   const Vec3 gravity(kG * std::sin(theta), -kG * std::cos(theta), 0.0);
-  SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + 0.0005, 0))}, mu, gravity), cached());
+  bullet::SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + 0.0005, 0))}, mu, gravity), cached());
   std::vector<double> ts, xs;
   double x05 = 0.0;
   const int steps = static_cast<int>(std::lround(seconds / 0.001));
@@ -152,7 +152,7 @@ TEST(TextbookPenalty, SphereRollsAtFiveSeventhsGSinTheta) {
   const std::string sphere =
       R"({"name": "ball", "primitive": {"type": "sphere", "radius": 0.05, "subdivisions": 4}, "mass": 1.0,)"
       R"( "position": [0, 0.0505, 0], "resolution": 32})";
-  SceneWorld world(textbookScene({sphere}, 0.5, gravity), cached());
+  bullet::SceneWorld world(textbookScene({sphere}, 0.5, gravity), cached());
   std::vector<double> ts, xs;
   for (int step = 1; step <= 2000; ++step) {
     world.step();
@@ -163,7 +163,7 @@ TEST(TextbookPenalty, SphereRollsAtFiveSeventhsGSinTheta) {
   }
   const double a = fitAcceleration(ts, xs);
   const double expected = 5.0 / 7.0 * kG * std::sin(theta);
-  const SceneBodyState s = world.bodyState(0);
+  const bullet::SceneBodyState s = world.bodyState(0);
   const double rolling = -s.angularVelocity.z() * 0.05;  // omega r of rolling along +x
   std::printf("sphere: a = %.4f m/s^2 (5/7 g sin theta = %.4f), v = %.4f, omega r = %.4f\n", a, expected,
               s.linearVelocity.x(), rolling);
@@ -171,7 +171,7 @@ TEST(TextbookPenalty, SphereRollsAtFiveSeventhsGSinTheta) {
   EXPECT_NEAR(rolling / s.linearVelocity.x(), 1.0, 0.05);
 }
 
-bool allDynamicAsleep(SceneWorld& world) {
+bool allDynamicAsleep(bullet::SceneWorld& world) {
   for (int i = 0; i < world.bodyCount(); ++i) {
     if (!world.isStatic(i) && world.body(i).getActivationState() != ISLAND_SLEEPING) return false;
   }
@@ -182,7 +182,7 @@ bool allDynamicAsleep(SceneWorld& world) {
 /// end and that the largest penetration at rest (the last step with contacts) is under 1 cell. Once every
 /// dynamic body sleeps (after 1 s), the run stops: Bullet moves no sleeping body, and nothing in these scenes
 /// wakes one (no external agent, the islands are all asleep), so the positions at `seconds` are those of now.
-void expectStands(SceneWorld& world, double seconds, const std::string& what) {
+void expectStands(bullet::SceneWorld& world, double seconds, const std::string& what) {
   const int steps = static_cast<int>(std::lround(seconds / 0.001));
   std::vector<Vec3> at1;
   double lastPenetration = 0.0;  // cells, at the last step that had contacts
@@ -190,7 +190,7 @@ void expectStands(SceneWorld& world, double seconds, const std::string& what) {
   for (; step <= steps; ++step) {
     world.step();
     double penetration = 0.0;
-    for (const SdfccdPairContact& c : world.contacts().lastStepContacts()) {
+    for (const bullet::PairContact& c : world.contacts().lastStepContacts()) {
       penetration = std::max(penetration, c.maxPenetrationCells);
     }
     if (world.lastFrame().contacts > 0) lastPenetration = penetration;
@@ -224,12 +224,12 @@ std::vector<std::string> stack(int count, double gap = 0.001) {
 }
 
 TEST(TextbookPenalty, StackOfThreeStands) {
-  SceneWorld world(textbookScene(stack(3), 0.5, Vec3(0, -kG, 0), true), cached());
+  bullet::SceneWorld world(textbookScene(stack(3), 0.5, Vec3(0, -kG, 0), true), cached());
   expectStands(world, 10.0, "stack of 3");
 }
 
 TEST(TextbookPenalty, StackOfTenStands) {
-  SceneWorld world(textbookScene(stack(10), 0.5, Vec3(0, -kG, 0), true), cached());
+  bullet::SceneWorld world(textbookScene(stack(10), 0.5, Vec3(0, -kG, 0), true), cached());
   expectStands(world, 10.0, "stack of 10");
 }
 
@@ -243,15 +243,15 @@ TEST(TextbookPenalty, PyramidOfFifteenStands) {
       bodies.push_back(boxBody("b" + std::to_string(n++), Vec3(x, kHalf + row * (2 * kHalf + 0.001) + 0.001, 0)));
     }
   }
-  SceneWorld world(textbookScene(bodies, 0.5, Vec3(0, -kG, 0), true), cached());
+  bullet::SceneWorld world(textbookScene(bodies, 0.5, Vec3(0, -kG, 0), true), cached());
   expectStands(world, 10.0, "pyramid of 15");
 }
 
 // The light box feels both its contacts at once (omega^2 = (K_ground + 2 K_top) / m): per-pair caps alone leave
 // it at the explicit limit (2.08 cells deep at the end, 165 mm of drift). Contact mass scaling
-// (SdfccdContactSystem::applyContactMass) keeps each body within the caps with its whole load, at full stiffness.
+// (ContactLoads::applyContactMass) keeps each body within the caps with its whole load, at full stiffness.
 TEST(TextbookPenalty, HeavyOnLightStands) {
-  SceneWorld world(textbookScene({boxBody("light", Vec3(0, kHalf + 0.001, 0), 0.1),
+  bullet::SceneWorld world(textbookScene({boxBody("light", Vec3(0, kHalf + 0.001, 0), 0.1),
                                   boxBody("heavy", Vec3(0, 3 * kHalf + 0.002, 0), 10.0)},
                                  0.5, Vec3(0, -kG, 0), true),
                    cached());
@@ -260,7 +260,7 @@ TEST(TextbookPenalty, HeavyOnLightStands) {
 
 TEST(TextbookPenalty, RestingBunnyComesToRestAndSleepsShort) {
   Scene scene = textbookScene({bunnyBody("bunny", Vec3(0, 0.2, 0))}, 0.5, Vec3(0, -kG, 0), true);
-  SceneWorld world(scene, cached());
+  bullet::SceneWorld world(scene, cached());
   for (int step = 1; step <= 10000; ++step) world.step();
   const double energy = world.kineticEnergy();
   std::printf("resting bunny at 10 s: kinetic energy %.3g J, activation state %d\n", energy,
@@ -278,7 +278,7 @@ TEST(TextbookPenalty, EnergyNeverExceedsItsPreContactMaximumShort) {
   std::ostringstream j;
   j << R"({"timestep": 0.001, "effects": ["damping", "rotation", "friction"], "contact": {"mode": "penalty", "friction": 0.5},)"
     << R"( "sleeping": false, "bodies": [)" << wall << ", " << bunny << "]}";
-  SceneWorld world(test::sceneFromText(j.str()), cached());
+  bullet::SceneWorld world(test::sceneFromText(j.str()), cached());
   world.body(0).setRestitution(1.0);
   world.body(1).setRestitution(0.5);
   double before = world.kineticEnergy();
@@ -357,7 +357,7 @@ TEST(TextbookPenalty, ReboundIsTheSameStepSpringDashpotsShort) {
   const double stiffness = 1.0e7 * (2 * kHalf) * (2 * kHalf);  // N/m, the default k_A times the face
   const double vIn = std::sqrt(2.0 * kG * h);
   for (double e : {0.3, 0.6, 0.9}) {
-    SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + h, 0))}, 0.5), cached());
+    bullet::SceneWorld world(textbookScene({boxBody("box", Vec3(0, kHalf + h, 0))}, 0.5), cached());
     btCollisionObjectArray& objects = world.world().getCollisionObjectArray();
     for (int i = 0; i < objects.size(); ++i) objects[i]->setRestitution(1.0);  // the ground: combined e = e_body
     world.body(0).setRestitution(btScalar(e));
@@ -394,14 +394,14 @@ TEST(TextbookPenalty, KinematicBoxPushesABunnyShort) {
   std::string pusher =
       R"({"name": "pusher", "primitive": {"type": "box", "half_extents": [0.1, 0.1, 0.1]},)"
       R"( "kinematic": true, "velocity": [1, 0, 0], "position": [-0.215, 0.1005, 0], "resolution": 32})";
-  SceneWorld world(textbookScene({bunnyBody("bunny", Vec3(0, 0.07, 0)), pusher}, 0.5), cached());
+  bullet::SceneWorld world(textbookScene({bunnyBody("bunny", Vec3(0, 0.07, 0)), pusher}, 0.5), cached());
   for (int step = 1; step <= 200; ++step) world.step();  // the bunny settles first; the box is still away
   double deepest = 0.0, fastest = 0.0;
   double lastSpeed = 0.0;
   for (int step = 1; step <= 500; ++step) {
     world.step();
     deepest = std::max(deepest, world.lastFrame().penetrationCells);
-    const SceneBodyState bunny = world.bodyState(0);
+    const bullet::SceneBodyState bunny = world.bodyState(0);
     fastest = std::max(fastest, bunny.linearVelocity.norm());
     lastSpeed = bunny.linearVelocity.x();
   }
@@ -416,7 +416,7 @@ TEST(TextbookPenalty, KinematicBoxPushesABunnyShort) {
 }
 
 TEST(TextbookPenalty, TwoChildCompoundRestsOnTheGround) {
-  SdfccdContactSettings settings;
+  bullet::ContactSettings settings;
   settings.mode = SdfccdContactMode::Penalty;
   settings.penalty.frictionFromBodies = false;
   settings.penalty.friction = 0.5;

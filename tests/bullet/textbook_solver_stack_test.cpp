@@ -95,9 +95,9 @@ double bulletBoxStandMotion(const std::vector<double>& masses, ContactSolver kin
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher(&config);
   btDbvtBroadphase broadphase;
-  const std::unique_ptr<btConstraintSolver> solver = makeContactSolver(kind);
+  const std::unique_ptr<btConstraintSolver> solver = bullet::makeContactSolver(kind);
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &config);
-  configureContactSolver(world.getSolverInfo(), kind);
+  bullet::configureContactSolver(world.getSolverInfo(), kind);
   world.setGravity(btVector3(0, btScalar(-kG), 0));
   btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
   btRigidBody ground(0, nullptr, &plane);
@@ -156,13 +156,13 @@ TEST(SolverTextbook, DISABLED_BulletOwnBoxesStandReference) {
 
 /// Steps a pyramid of btBoxShapes `rows` high (1 cm apart, 1 mm gaps) for 0.5 s at 1/240 s under the Mlcp solver:
 /// what the solver did, and how far the top box sank.
-std::pair<MlcpSolverCounts, double> mlcpBoxPyramid(int rows) {
+std::pair<bullet::MlcpSolverCounts, double> mlcpBoxPyramid(int rows) {
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher(&config);
   btDbvtBroadphase broadphase;
-  const std::unique_ptr<btConstraintSolver> solver = makeContactSolver(ContactSolver::Mlcp);
+  const std::unique_ptr<btConstraintSolver> solver = bullet::makeContactSolver(ContactSolver::Mlcp);
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &config);
-  configureContactSolver(world.getSolverInfo(), ContactSolver::Mlcp);
+  bullet::configureContactSolver(world.getSolverInfo(), ContactSolver::Mlcp);
   world.setGravity(btVector3(0, btScalar(-kG), 0));
   btStaticPlaneShape plane(btVector3(0, 1, 0), 0);
   btRigidBody ground(0, nullptr, &plane);
@@ -187,7 +187,7 @@ std::pair<MlcpSolverCounts, double> mlcpBoxPyramid(int rows) {
   const double sink = topStart - double(bodies.back()->getWorldTransform().getOrigin().y());
   for (const auto& b : bodies) world.removeRigidBody(b.get());
   world.removeRigidBody(&ground);
-  return {*mlcpSolverCounts(*solver), sink};
+  return {*bullet::mlcpSolverCounts(*solver), sink};
 }
 
 // The Mlcp solver's cost bound (contact_solver.h): a 5-row pyramid (15 boxes, up to about 300 rows) is answered by
@@ -202,7 +202,7 @@ TEST(SolverTextbook, MlcpHandsLargeIslandsToSequentialImpulse) {
   const auto [large, largeSink] = mlcpBoxPyramid(8);
   EXPECT_GT(large.sequentialIslands, 0);
   EXPECT_LT(std::abs(largeSink), 0.01);
-  EXPECT_FALSE(mlcpSolverCounts(btSequentialImpulseConstraintSolver()).has_value());
+  EXPECT_FALSE(bullet::mlcpSolverCounts(btSequentialImpulseConstraintSolver()).has_value());
 }
 
 TEST(SolverTextbook, ContactSolverKeyBuildsThatSolverShort) {
@@ -212,7 +212,7 @@ TEST(SolverTextbook, ContactSolverKeyBuildsThatSolverShort) {
   const auto solverOf = [&](const std::string& contact) {
     const std::string text =
         R"({"effects": ["gravity", "ground"], "contact": )" + contact + R"(, "bodies": [)" + body + "]}";
-    SceneWorld world(test::sceneFromText(text));
+    bullet::SceneWorld world(test::sceneFromText(text));
     return std::make_pair(world.world().getConstraintSolver()->getSolverType(), world.world().getSolverInfo());
   };
   const auto mlcp = solverOf(R"({"mode": "solver"})");  // the default

@@ -25,7 +25,7 @@
 #include "bullet/compound_on_ground.h"
 #include "bullet_test_util.h"
 #include "sdfccd/bullet/scene_world.h"
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/bullet/sdfccd_shape.h"
 #include "sdfccd/mesh/procedural_meshes.h"
 #include "textbook_solver_util.h"
@@ -132,7 +132,7 @@ TEST(SolverTextbook, SphereRollsAtFiveSevenths) {
   }
   const double expected = 5.0 / 7.0 * kG * std::sin(theta * kPi / 180.0);
   EXPECT_NEAR(fitAcceleration(ts, xs) / expected, 1.0, 0.05);
-  const SceneBodyState s = world->bodyState(0);
+  const bullet::SceneBodyState s = world->bodyState(0);
   EXPECT_NEAR(std::abs(s.angularVelocity.z()) * 0.05 / s.linearVelocity.x(), 1.0, 0.05);
 }
 
@@ -146,7 +146,7 @@ double reboundApex(double e, double height, double timestep = kStep) {
   double apex = 0;
   while (world->time() < 3.0) {
     world->step();
-    const SceneBodyState s = world->bodyState(0);
+    const bullet::SceneBodyState s = world->bodyState(0);
     if (s.linearVelocity.y() > 0.05) rising = true;
     if (rising) {
       apex = std::max(apex, s.position.y() - kHalf);
@@ -264,7 +264,7 @@ TEST(SolverTextbook, DampedKineticEnergyNeverAboveItsPreContactMaximum) {
 TEST(SolverTextbook, TwoChildCompoundRestsOnTheGroundShort) {
   // Two box children, the second turned 45 degrees about z: each child's shell and field must sit at its own child
   // frame (a shell placed in the body's frame would leave the turned child's corner 2 cm in the ground).
-  SdfccdContactSettings settings;
+  bullet::ContactSettings settings;
   settings.mode = SdfccdContactMode::Solver;
   btTransform left, right;
   left.setIdentity();
@@ -285,9 +285,9 @@ TEST(SolverTextbook, TwentyBunnyPileSleeps) {
   scene.contact.mode = SdfccdContactMode::Solver;
   scene.contact.model = PenaltyModel::Continuous;
   scene.sleeping = true;
-  SceneWorldSettings settings;
+  bullet::SceneWorldSettings settings;
   settings.timestep = kStep;
-  SceneWorld world(scene, settings);
+  bullet::SceneWorld world(scene, settings);
   while (world.time() < 10.0 - 1e-9) world.step();
   EXPECT_FALSE(world.hasNonFinite());
   EXPECT_TRUE(world.tunneledBodies().empty());
@@ -365,14 +365,14 @@ void expectKinematicBoxPushesABunny(double timestep) {
   while (world->time() < 0.7 - 1e-9) {
     world->step();
     deepest = std::max(deepest, world->lastFrame().penetrationCells);
-    const SceneBodyState bunny = world->bodyState(0);
+    const bullet::SceneBodyState bunny = world->bodyState(0);
     fastest = std::max(fastest, bunny.linearVelocity.norm());
     if (t05 == 0.0 && world->time() >= 0.5 - 1e-9) {
       t05 = world->time();
       x05 = bunny.position.x();
     }
   }
-  const SceneBodyState bunny = world->bodyState(0);
+  const bullet::SceneBodyState bunny = world->bodyState(0);
   const double meanSpeed = (bunny.position.x() - x05) / (world->time() - t05);
   const double front = world->bodyState(1).position.x() + 0.1;
   std::printf(
@@ -411,7 +411,7 @@ TEST(SolverTextbook, SceneKeysShort) {
   EXPECT_EQ(scene.bodies[0].friction, 0.25);
   EXPECT_EQ(scene.bodies[0].restitution, 0.5);
   EXPECT_EQ(test::sceneFromText(R"({"bodies": [)" + body + "]}").contact.mode, SdfccdContactMode::Solver);
-  EXPECT_EQ(SdfccdContactSettings{}.mode, SdfccdContactMode::Solver);  // the C++ default matches the scene's
+  EXPECT_EQ(bullet::ContactSettings{}.mode, SdfccdContactMode::Solver);  // the C++ default matches the scene's
   test::expectOneLineError(
       [&] { test::sceneFromText(R"({"contact": {"model": "discrete"}, "bodies": [)" + body + "]}"); }, "contact.model");
   test::expectOneLineError(

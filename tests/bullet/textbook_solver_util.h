@@ -59,11 +59,11 @@ inline std::string sceneText(const std::vector<std::string>& bodies, const Vec3&
 }
 
 /// A world of `text` whose ground takes friction 1 and restitution 1 (the pair's values are the body's).
-inline std::unique_ptr<SceneWorld> makeWorld(const std::string& text, double timestep = kStep) {
-  SceneWorldSettings settings;
+inline std::unique_ptr<bullet::SceneWorld> makeWorld(const std::string& text, double timestep = kStep) {
+  bullet::SceneWorldSettings settings;
   settings.timestep = timestep;
   settings.cacheDir = "textbook-model-cache";  // the bunny's field and shell (boxes are built, not cached)
-  auto world = std::make_unique<SceneWorld>(test::sceneFromText(text), settings);
+  auto world = std::make_unique<bullet::SceneWorld>(test::sceneFromText(text), settings);
   btCollisionObject* ground = world->world().getCollisionObjectArray()[0];
   ground->setFriction(1.0);
   ground->setRestitution(1.0);

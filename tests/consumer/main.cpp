@@ -4,7 +4,7 @@
 #include <btBulletDynamicsCommon.h>
 #include <sdfccd/bullet/bullet_pose.h>
 #include <sdfccd/bullet/contact_solver.h>
-#include <sdfccd/bullet/sdfccd_contact_system.h>
+#include <sdfccd/bullet/contact_system.h>
 #include <sdfccd/bullet/sdfccd_shape.h>
 #include <sdfccd/field/sdf_grid.h>
 #include <sdfccd/haptics/virtual_coupling.h>
@@ -34,11 +34,11 @@ bool bunnyRestsOnTheGround(const std::string& meshPath) {
   btDbvtBroadphase broadphase;
   // Solver mode (the default) hands the contacts to Bullet's constraint solver: the exact MLCP one keeps stacks
   // and heavy-on-light pairs from creeping (sdfccd/bullet/contact_solver.h).
-  auto solver = sdfccd::makeContactSolver(sdfccd::ContactSolver::Mlcp);
+  auto solver = sdfccd::bullet::makeContactSolver(sdfccd::ContactSolver::Mlcp);
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, solver.get(), &configuration);
-  sdfccd::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
+  sdfccd::bullet::configureContactSolver(world.getSolverInfo(), sdfccd::ContactSolver::Mlcp);
   world.setGravity(btVector3(0, -9.81f, 0));
-  sdfccd::registerSdfccdAlgorithms(&world);  // the registration keeps the contact system alive
+  sdfccd::bullet::ContactSystem contacts(world);  // removed from the world when it goes, before the world
   btStaticPlaneShape groundShape(btVector3(0, 1, 0), 0);
   btRigidBody ground(0, nullptr, &groundShape);
   world.addRigidBody(&ground);
@@ -48,7 +48,7 @@ bool bunnyRestsOnTheGround(const std::string& meshPath) {
   btRigidBody box(0.5f, nullptr, &boxShape, boxInertia);
   box.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.1f, 0.02f, 0)));
   world.addRigidBody(&box);
-  sdfccd::SdfccdShape bunnyShape(model);
+  sdfccd::bullet::SdfccdShape bunnyShape(model);
   btVector3 inertia;
   bunnyShape.calculateLocalInertia(1.0f, inertia);
   btRigidBody bunny(1.0f, nullptr, &bunnyShape, inertia);
@@ -60,14 +60,13 @@ bool bunnyRestsOnTheGround(const std::string& meshPath) {
   const btTransform pose = bunny.getWorldTransform();
   double minY = 1e9;
   for (const sdfccd::Vec3& v : model->meshInBody().vertices) {
-    minY = std::min(minY, double(pose(sdfccd::toBtVector3(v)).y()));
+    minY = std::min(minY, double(pose(sdfccd::bullet::toBtVector3(v)).y()));
   }
   std::printf("consumer: bunny lowest point %.4f m, speed %.4f m/s\n", minY, bunny.getLinearVelocity().length());
   const bool rests = std::abs(minY) < 0.003 && bunny.getLinearVelocity().length() < 0.05;
   world.removeRigidBody(&bunny);
   world.removeRigidBody(&box);
   world.removeRigidBody(&ground);
-  sdfccd::releaseSdfccdAlgorithms(&world);
   return rests;
 }
 

@@ -8,9 +8,9 @@
 /// so placing a btRigidBody at the pose you want the *mesh* to have rotates and shifts it. Use
 /// bodyTransformForMeshPose():
 /// @code
-///   auto shape = std::make_unique<sdfccd::SdfccdShape>(model);
+///   auto shape = std::make_unique<sdfccd::bullet::SdfccdShape>(model);
 ///   btTransform meshPose(btQuaternion::getIdentity(), btVector3(0, 1, 0));  // where the file's mesh should be
-///   btDefaultMotionState motion(sdfccd::bodyTransformForMeshPose(*model, meshPose));
+///   btDefaultMotionState motion(sdfccd::bullet::bodyTransformForMeshPose(*model, meshPose));
 /// @endcode
 /// and meshPoseOfBody() to read a body's pose back in the mesh file's frame (rendering, export).
 ///
@@ -24,7 +24,7 @@
 #include "sdfccd/math_types.h"
 #include "sdfccd/model/body_model.h"
 
-namespace sdfccd {
+namespace sdfccd::bullet {
 
 inline Vec3 toVec3(const btVector3& v) {
   return Vec3(double(v.x()), double(v.y()), double(v.z()));
@@ -60,4 +60,4 @@ inline btTransform meshPoseOfBody(const BodyModel& model, const btTransform& wor
   return toBtTransform(toRigid(worldFromBody) * model.modelFromBody().inverse());
 }
 
-}  // namespace sdfccd
+}  // namespace sdfccd::bullet

@@ -13,8 +13,7 @@
 /// than it started, within the plate's extent. Heuristic but exact for the shipped scenes.
 ///
 /// Ownership: a SceneWorld owns its Bullet world, dispatcher, shapes and bodies; the models are shared
-/// (std::shared_ptr<const BodyModel>); its contact system is registered with its world and released in its
-/// destructor. References returned by world(), contacts() and body accessors live as long as the SceneWorld.
+/// (std::shared_ptr<const BodyModel>); its contact system is installed in its world and removed in its destructor. References returned by world(), contacts() and body accessors live as long as the SceneWorld.
 #pragma once
 
 #include <cstdint>
@@ -23,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "sdfccd/bullet/sdfccd_contact_system.h"
+#include "sdfccd/bullet/contact_system.h"
 #include "sdfccd/model/body_model.h"
 #include "sdfccd/model/scene.h"
 #include "sdfccd/progress.h"
@@ -32,7 +31,7 @@ class btCollisionShape;
 class btDiscreteDynamicsWorld;
 class btRigidBody;
 
-namespace sdfccd {
+namespace sdfccd::bullet {
 
 /// Options of SceneWorld that do not belong in the scene file.
 struct SceneWorldSettings {
@@ -45,9 +44,9 @@ struct SceneWorldSettings {
   std::optional<bool> useTree;             ///< overrides contact.tree
   std::optional<ForceTiming> forceTiming;  ///< overrides contact.force_timing
   std::optional<ContactSolver> solver;     ///< overrides contact.solver (solver mode)
-  int shadowLinearEvery = 0;               ///< see SdfccdContactSettings::shadowLinearEvery
-  bool coherentCcd = true;                 ///< see SdfccdContactSettings::coherentCcd
-  int narrowphaseThreads = 0;              ///< SdfccdContactSettings::threads (0 = all; same results for any)
+  int shadowLinearEvery = 0;               ///< benchmarks: time a point-by-point repeat every n-th step (0: off)
+  bool coherentCcd = true;                 ///< see ContactSettings::coherentCcd
+  int narrowphaseThreads = 0;              ///< ContactSettings::threads (0 = all; same results for any)
   bool allowSleeping = true;               ///< false: bodies never deactivate (benchmarks time every frame)
   ProgressCallback buildProgress;          ///< fraction of the model builds done
 };
@@ -93,7 +92,7 @@ class SceneWorld {
   const std::shared_ptr<const BodyModel>& modelPtr(int i) const { return m_models[static_cast<std::size_t>(i)]; }
   btRigidBody& body(int i) { return *m_bodies[static_cast<std::size_t>(i)]; }
   btDiscreteDynamicsWorld& world() { return *m_world; }
-  SdfccdContactSystem& contacts() { return *m_contacts; }
+  ContactSystem& contacts() { return *m_contacts; }
 
   const SceneFrameStats& lastFrame() const { return m_last; }
   double maxPenetrationCells() const { return m_maxPenetrationCells; }  ///< over all frames so far
@@ -114,7 +113,7 @@ class SceneWorld {
   Scene m_scene;
   std::unique_ptr<struct SceneWorldBullet> m_bullet;
   btDiscreteDynamicsWorld* m_world = nullptr;
-  std::shared_ptr<SdfccdContactSystem> m_contacts;
+  std::unique_ptr<ContactSystem> m_contacts;  // destroyed before the world (~SceneWorld)
   std::vector<std::shared_ptr<const BodyModel>> m_models;
   std::vector<btRigidBody*> m_bodies;
   std::vector<Plate> m_plates;
@@ -127,7 +126,7 @@ class SceneWorld {
 };
 
 /// The contact settings a scene asks for (effects applied: damping and rotation integrals only if listed).
-SdfccdContactSettings contactSettingsFor(const Scene& scene);
+ContactSettings contactSettingsFor(const Scene& scene);
 
 /// The Bullet rigid body of `body` (one of scene.bodies) with any collision shape (ours in SceneWorld, Bullet's
 /// own in a benchmark peer): the start pose of worldFromBodyAt (mass_properties.h), the mass (0 when static),
@@ -136,4 +135,4 @@ SdfccdContactSettings contactSettingsFor(const Scene& scene);
 std::unique_ptr<btRigidBody> makeSceneRigidBody(const Scene& scene, const SceneBody& body, const BodyModel& model,
                                                 btCollisionShape* shape, bool maySleep);
 
-}  // namespace sdfccd
+}  // namespace sdfccd::bullet

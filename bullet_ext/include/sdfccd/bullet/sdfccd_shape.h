@@ -3,8 +3,7 @@
 /// (paper Section 5: "each bunny carries a pointshell and a signed distance field").
 ///
 /// @details The shape holds a shared, immutable BodyModel; any number of shapes and bodies may share
-/// one model. Contacts come from SdfccdCollisionAlgorithm (sdfccd_collision_algorithm.h), registered with
-/// registerSdfccdAlgorithms().
+/// one model. Contacts come from the collision algorithm a ContactSystem (contact_system.h) installs.
 ///
 /// Shape type, chosen knowingly: CUSTOM_CONCAVE_SHAPE_TYPE (29), with btConcaveShape as the base class.
 /// - Bullet casts a concave-range shape to btConcaveShape in rayTest, convexSweepTest and debug drawing and
@@ -12,7 +11,7 @@
 ///   debug drawing work on the true (concave) surface. A convex-range id would make Bullet treat the shape as
 ///   a convex support mapping, which a bowl or a bunny is not.
 /// - 29 is also SDF_SHAPE_PROXYTYPE: Bullet's default convex-vs-concave algorithm would cast this shape to
-///   btSdfCollisionShape. registerSdfccdAlgorithms() therefore overwrites *every* dispatcher entry that
+///   btSdfCollisionShape. A ContactSystem therefore overwrites *every* dispatcher entry that
 ///   involves type 29, both orders, for contacts and closest points: (ours, ours), (ours, static plane) and
 ///   (ours, box | sphere | capsule) get our algorithm; every other pair gets btEmptyAlgorithm (no contact;
 ///   counted in the contact system's statistics). Consequence: btSdfCollisionShape cannot be used in the same world.
@@ -45,7 +44,7 @@
 
 #include "sdfccd/model/body_model.h"
 
-namespace sdfccd {
+namespace sdfccd::bullet {
 
 ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
  public:
@@ -105,4 +104,4 @@ ATTRIBUTE_ALIGNED16(class) SdfccdShape : public btConcaveShape {
 /// True when `shape` is an SdfccdShape (type 29 and our name: btSdfCollisionShape shares the type id).
 bool isSdfccdShape(const btCollisionShape* shape);
 
-}  // namespace sdfccd
+}  // namespace sdfccd::bullet

@@ -2,7 +2,7 @@
 /// @brief ForceTiming: when a step's penalty impulses reach the velocities (paper Section 4.1, eq. (5)).
 ///
 /// @details A setting of its own, without Bullet, so that the scene schema (sdfccd/model/scene_contact.h) and the
-/// Bullet contact system (sdfccd/bullet/sdfccd_contact_system.h) share it.
+/// Bullet contact system (sdfccd/bullet/contact_system.h) share it.
 #pragma once
 
 #include <cstdint>
