@@ -43,11 +43,10 @@
 /// the previous normal force and is exact only at a fixed point. No library: Debian ships neither qpOASES nor
 /// OSQP, and a dense Lemke is ~100 lines. Its cost is O(n^2) per pivot with n = contacts * (p + 2), so
 /// friction is for contact sets of tens of points (coplanar patches are first reduced to their hulls by the
-/// god-object, reduceContactPatches); friction 0 keeps the NNLS solve exactly. Measured (`bench haptics`, 25k
-/// points, thread CPU time, mu = 0.3, p = 8): alpha puzzle (<= 4 contacts) cycle p50 0.076 / p99 0.160 ms
-/// (frictionless 0.069 / 0.126-0.141); peg in hole (up to 34 contacts) p50 0.90 / p99 8.8 ms (frictionless
-/// 0.49 / 1.6): over the 1 ms budget in the tight fit, where a revised Lemke (a Schur complement on the few
-/// basic z, O(n s) per pivot) would be the next step.
+/// god-object, reduceContactPatches); friction 0 keeps the NNLS solve exactly. A few contacts (the alpha
+/// puzzle) stay within the haptic budget; tens of contacts in a tight fit (the peg in its hole) do not, where a
+/// revised Lemke (a Schur complement on the few basic z, O(n s) per pivot) would be the next step (`bench haptics`
+/// measures both).
 ///
 /// Thread safety: ContactQpSolver holds scratch buffers; use one per thread.
 #pragma once

@@ -1,6 +1,6 @@
 /// @file
 /// @brief The virtual coupling integrated implicitly with the simulated object (paper Section 4.1, admittance
-/// mode), optionally with the device's own dynamics in the same backward Euler step (issue 16, item 3).
+/// mode), optionally with the device's own dynamics in the same backward Euler step.
 ///
 /// @details One haptic tick of length h. The coupling wrench on the object F_c depends on the pose and twist
 /// difference of device (x_h, v_h) and object (x_s, v_s); its gradients K = dF_c/dx_s and D = dF_c/dv_s
@@ -8,7 +8,7 @@
 ///   F_c+ = F_c + K (dx_s - dx_h) + D (dv_s - dv_h),   dx = h (v + dv)   (the pose change of the tick).
 /// The object takes one linearized backward Euler step under F_c+ and its contacts (F_t, gradient K_t):
 ///   M_s dv_s = h (F_c+ + F_t + K_t h (v_s + dv_s)).
-/// - CouplingIntegration::Explicit: the renderer's former scheme, dx_h = 0 and dv_h = 0 in the object's step
+/// - CouplingIntegration::Explicit: the default scheme, dx_h = 0 and dv_h = 0 in the object's step
 ///   (the device frozen for the tick) and the device rendered -F_c from the tick's start.
 /// - Implicit (the paper's admittance mode, the object's side only): the device keeps its velocity over the
 ///   tick (dv_h = 0, dx_h = h v_h), and the device is rendered -F_c+, the coupling at the end of the object's
@@ -29,8 +29,8 @@
 /// by a spring: momentum is kept and the relative mode's energy shrinks by 1 / (1 + h^2 k / mu) per tick (mu the
 /// reduced mass; tested).
 ///
-/// Fig. 10b (the peg, 2,000 points; `sdfccd bench haptics --fig10b [--fig10b-all-rungs] --fig10b-coupling ...`,
-/// measured when this mode was added): the coupling's integration does not set the peg's stability limit. The coupling
+/// Fig. 10b (the peg, 2,000 points; `sdfccd bench haptics --fig10b [--fig10b-all-rungs] --fig10b-coupling ...`):
+/// the coupling's integration does not set the peg's stability limit. The coupling
 /// is soft next to the masses it joins (k_c h^2 / m = 0.04 for the 50 g peg, 0.0067 for the 0.3 kg device, against the
 /// explicit bound 4), and the failures are contact events inside the object's own step (5-10 wall contacts; the peg's
 /// velocity reverses and doubles per tick for 2-3 ticks while the rendered force is still ~0.1 N). Per rung from 1e6 to

@@ -1,5 +1,5 @@
 /// @file
-/// @brief SessionGuard: the runaway watchdog of a haptic session (issue 14), internal to the session.
+/// @brief SessionGuard: the runaway watchdog of a haptic session, internal to the session.
 #pragma once
 
 #include <optional>
