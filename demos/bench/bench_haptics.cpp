@@ -23,9 +23,9 @@
 #include "bench/cache_option.h"
 #include "bench/option_checks.h"
 #include "cli/bench_registry.h"
+#include "haptics_experiments/stability_sweep.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
-#include "sdfccd/haptics/stability_sweep.h"
 #include "sdfccd/output_file.h"
 
 #ifndef SDFCCD_ASSETS_DIR_CLI

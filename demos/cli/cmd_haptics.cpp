@@ -21,6 +21,7 @@
 #include <string>
 
 #include "cli/command_registry.h"
+#include "haptics_experiments/session_output.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/haptic_session.h"
 #include "sdfccd/model/model_cache_folder.h"

@@ -38,20 +38,20 @@ TEST(PenaltyRendererAxisCertificates, PegSlideIsBitIdenticalToTheFreshQuery) {
     s.axisCertificates = axis;
     return s;
   };
-  PenaltyRenderer<GridField> fresh(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart,
-                                   makeSettings(false, false));
-  PenaltyRenderer<GridField> axis(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart,
-                                  makeSettings(true, true));
-  PenaltyRenderer<GridField> plain(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart,
-                                   makeSettings(true, false));
+  PenaltyRenderer fresh(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart,
+                        makeSettings(false, false));
+  PenaltyRenderer axis(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart,
+                       makeSettings(true, true));
+  PenaltyRenderer plain(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart,
+                        makeSettings(true, false));
   DeviceEmulator deviceA(scene.device, scene.script, scene.worldFromBodyStart);
   DeviceEmulator deviceB(scene.device, scene.script, scene.worldFromBodyStart);
   DeviceEmulator deviceC(scene.device, scene.script, scene.worldFromBodyStart);
   const int ticks = static_cast<int>(scene.seconds * scene.device.rateHz);
   std::int64_t axisQueries = 0, plainQueries = 0;
   int contactTicks = 0, mismatches = 0;
-  const auto same = [](const PenaltyStepResult& a, const PenaltyStepResult& b, const PenaltyRenderer<GridField>& ra,
-                       const PenaltyRenderer<GridField>& rb) {
+  const auto same = [](const PenaltyStepResult& a, const PenaltyStepResult& b, const PenaltyRenderer& ra,
+                       const PenaltyRenderer& rb) {
     return a.contactWrench == b.contactWrench && a.contactCount == b.contactCount &&
            ra.state().worldFromBody.matrix() == rb.state().worldFromBody.matrix() &&
            a.wrenchOnDevice == b.wrenchOnDevice;
@@ -87,14 +87,14 @@ std::pair<std::int64_t, std::int64_t> compareGodObjects(const PointTree& tree, c
   axisOn.axisCertificates = true;
   GodObjectSettings axisOff = axisOn;
   axisOff.axisCertificates = false;
-  GodObject<GridField> reference(tree, field, worldFromSdf, start, off);
-  GodObject<GridField> withAxis(tree, field, worldFromSdf, start, axisOn);
-  GodObject<GridField> withoutAxis(tree, field, worldFromSdf, start, axisOff);
+  GodObject reference(ObstacleContacts(tree, field, worldFromSdf), start, off);
+  GodObject withAxis(ObstacleContacts(tree, field, worldFromSdf), start, axisOn);
+  GodObject withoutAxis(ObstacleContacts(tree, field, worldFromSdf), start, axisOff);
   std::int64_t queries[2] = {0, 0};
   for (int k = 0; k < cycles; ++k) {
     const Rigid t = target(k);
     const GodObjectStepResult r = reference.step(t);
-    GodObject<GridField>* cached[2] = {&withAxis, &withoutAxis};
+    GodObject* cached[2] = {&withAxis, &withoutAxis};
     for (int h = 0; h < 2; ++h) {
       const GodObjectStepResult c = cached[h]->step(t);
       const std::string what = std::string(h == 0 ? "axis" : "no axis") + " cycle " + std::to_string(k);

@@ -13,11 +13,13 @@
 #include <vector>
 
 #include "haptics/haptic_test_scenes.h"
+#include "haptics_experiments/session_output.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/device_emulator.h"
 #include "sdfccd/haptics/haptic_session.h"
 #include "sdfccd/haptics/trajectory_player.h"
 #include "sdfccd/haptics/two_loop_runner.h"
+#include "session/fault_injection.h"
 
 namespace sdfccd::haptics {
 namespace {
@@ -109,11 +111,13 @@ TEST(TrajectoryPlayer, DrivesAWholeSessionInPlaceOfTheEmulator) {
   EXPECT_THROW(TrajectoryPlayer(UserScript(keys), 0.0), Error);
 }
 
-/// Runs `scene` on its own emulator with a fault injected; returns the result, the emulator's final state in `last`.
-HapticSessionResult runWithFault(const HapticScene& scene, HapticSessionSettings settings, DeviceState& last) {
+/// Runs `scene` on its own emulator with a fault injected (the session's internal seam, fault_injection.h); returns the
+/// result, the emulator's final state in `last`.
+HapticSessionResult runWithFault(const HapticScene& scene, HapticSessionSettings settings, const SessionFaults& faults,
+                                 DeviceState& last) {
   DeviceEmulator device(scene.device, scene.script, scene.worldFromBodyStart);
   settings.recordTicks = true;
-  HapticSessionResult r = runHapticSession(scene, settings, device);
+  HapticSessionResult r = runHapticSessionWithFaults(scene, settings, device, faults);
   last = device.state();
   return r;
 }
@@ -123,9 +127,10 @@ TEST(TwoLoopRunner, ASimulationExceptionEndsTheSessionWithZeroForce) {
   HapticSessionSettings s;
   s.method = HapticMethod::Constraint;
   s.seconds = 0.6;
-  s.faultInjection.simulationCycle = 450;  // pressing into the plane by then
+  SessionFaults faults;
+  faults.simulationCycle = 450;  // pressing into the plane by then
   DeviceState last;
-  const HapticSessionResult r = runWithFault(scene, s, last);
+  const HapticSessionResult r = runWithFault(scene, s, faults, last);
   EXPECT_NE(r.summary.error.find("simulation loop: injected fault at simulation cycle 450"), std::string::npos)
       << r.summary.error;
   // Ticks 0..449 ran; tick 450 failed in its simulation cycle, wrote zero, and the loop ended.
@@ -142,9 +147,10 @@ TEST(TwoLoopRunner, AHapticTickExceptionEndsThePenaltySessionWithZeroForce) {
   HapticSessionSettings s;
   s.method = HapticMethod::Penalty;
   s.seconds = 0.6;
-  s.faultInjection.hapticTick = 300;
+  SessionFaults faults;
+  faults.hapticTick = 300;
   DeviceState last;
-  const HapticSessionResult r = runWithFault(scene, s, last);
+  const HapticSessionResult r = runWithFault(scene, s, faults, last);
   EXPECT_NE(r.summary.error.find("haptic loop: injected fault at haptic tick 300"), std::string::npos)
       << r.summary.error;
   EXPECT_EQ(r.summary.hapticTicks, 301);
@@ -163,12 +169,13 @@ TEST(TwoLoopRunner, RealTimeSurvivesAnExceptionInEitherLoop) {
     s.method = method;
     s.realTime = true;
     s.seconds = 0.3;
+    SessionFaults faults;
     if (method == HapticMethod::Constraint)
-      s.faultInjection.simulationCycle = 40;
+      faults.simulationCycle = 40;
     else
-      s.faultInjection.hapticTick = 40;
+      faults.hapticTick = 40;
     DeviceState last;
-    const HapticSessionResult r = runWithFault(scene, s, last);
+    const HapticSessionResult r = runWithFault(scene, s, faults, last);
     const char* loop = method == HapticMethod::Constraint ? "simulation loop: injected" : "haptic loop: injected";
     EXPECT_NE(r.summary.error.find(loop), std::string::npos) << r.summary.error;
     EXPECT_LT(r.summary.hapticTicks, 300);

@@ -21,8 +21,8 @@ void expectCacheChangesNothing(const std::string& sceneFile, double seconds) {
   on.clearanceCache = true;
   GodObjectSettings off = scene.god;
   off.clearanceCache = false;
-  GodObject<GridField> cached(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart, on);
-  GodObject<GridField> plain(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart, off);
+  GodObject cached(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart, on);
+  GodObject plain(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart, off);
   std::int64_t cachedQueries = 0, plainQueries = 0;
   int contactCycles = 0;
   const int cycles = static_cast<int>(seconds * 1000.0);

@@ -51,7 +51,7 @@ GodObjectSettings frictionSettings(double mu) {
 }
 
 // Rests the god-object on the ground with the device straight below it (pressing with k * kPress).
-void settle(GodObject<PlaneField>& god) {
+void settle(GodObject& god) {
   for (int cycle = 0; cycle < 50; ++cycle) {
     const GodObjectStepResult r = god.step(at(Vec3(0, kHalf - kPress, 0)));
     ASSERT_NE(r.qpState, ContactQpState::Failed);
@@ -63,7 +63,7 @@ TEST(GodObjectFriction, BelowTheStaticBoundTheToolNeverCreepsIn10Seconds) {
   const PointTree tree = cornerTree();
   const PlaneField ground = PlaneField::ground();
   const double mu = 0.5;
-  GodObject<PlaneField> god(tree, ground, Rigid::Identity(), at(Vec3(0, kHalf + 2e-5, 0)), frictionSettings(mu));
+  GodObject god(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, kHalf + 2e-5, 0)), frictionSettings(mu));
   settle(god);
   const Rigid rest = god.pose();
   // Tangential offset 0.8 mu cos(pi/8) kPress at 30 degrees from x: below the bound in every direction.
@@ -91,7 +91,7 @@ TEST(GodObjectFriction, BelowTheStaticBoundTheToolNeverCreepsIn10Seconds) {
 Vec6 drag(double mu, const Vec3& direction, double& travelled) {
   const PointTree tree = cornerTree();
   const PlaneField ground = PlaneField::ground();
-  GodObject<PlaneField> god(tree, ground, Rigid::Identity(), at(Vec3(0, kHalf + 2e-5, 0)), frictionSettings(mu));
+  GodObject god(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, kHalf + 2e-5, 0)), frictionSettings(mu));
   settle(god);
   const Rigid rest = god.pose();
   GodObjectStepResult r;
@@ -130,10 +130,10 @@ TEST(GodObjectFriction, BadFrictionSettingsAreRejected) {
   const PointTree tree = cornerTree();
   const PlaneField ground = PlaneField::ground();
   GodObjectSettings s = frictionSettings(-0.1);
-  EXPECT_THROW(GodObject<PlaneField>(tree, ground, Rigid::Identity(), at(Vec3(0, 0.05, 0)), s), Error);
+  EXPECT_THROW(GodObject(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.05, 0)), s), Error);
   s = frictionSettings(0.5);
   s.qp.frictionFaces = 2;
-  EXPECT_THROW(GodObject<PlaneField>(tree, ground, Rigid::Identity(), at(Vec3(0, 0.05, 0)), s), Error);
+  EXPECT_THROW(GodObject(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.05, 0)), s), Error);
 }
 
 // The plane-slide scene with `constraintExtra` added to its "constraint" object, written to a temporary file.

@@ -45,7 +45,7 @@ GodObjectSettings planeSettings() {
 TEST(GodObject, SlidesTangentiallyOnAPlaneWhilePressedIntoIt) {
   const PointTree tree = boxTree(Vec3(0.01, 0.01, 0.01), 600);
   const PlaneField ground = PlaneField::ground();
-  GodObject<PlaneField> god(tree, ground, Rigid::Identity(), at(Vec3(0, 0.01 + 1e-5, 0)), planeSettings());
+  GodObject god(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.01 + 1e-5, 0)), planeSettings());
   int maxContacts = 0;
   // The device is 5 mm below the ground and moves 3 cm along x: the god-object must follow along x.
   for (int cycle = 0; cycle < 400; ++cycle) {
@@ -72,7 +72,7 @@ TEST(GodObject, WithoutTheIgnoredPointsRuleItSticksToThePlane) {
   const PlaneField ground = PlaneField::ground();
   GodObjectSettings s = planeSettings();
   s.ignoreContactPoints = false;
-  GodObject<PlaneField> god(tree, ground, Rigid::Identity(), at(Vec3(0, 0.01 + 1e-5, 0)), s);
+  GodObject god(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.01 + 1e-5, 0)), s);
   for (int cycle = 0; cycle < 400; ++cycle) god.step(at(Vec3(0.03 * std::min(1.0, cycle / 300.0), 0.005, 0)));
   EXPECT_LT(god.pose().translation().x(), 0.005);  // stuck near where it touched down (paper's t_c = 0 issue)
 }
@@ -80,7 +80,7 @@ TEST(GodObject, WithoutTheIgnoredPointsRuleItSticksToThePlane) {
 TEST(GodObject, FreeMotionFollowsTheDeviceWithNoForce) {
   const PointTree tree = boxTree(Vec3(0.01, 0.01, 0.01), 200);
   const PlaneField ground = PlaneField::ground();
-  GodObject<PlaneField> god(tree, ground, Rigid::Identity(), at(Vec3(0, 0.05, 0)), planeSettings());
+  GodObject god(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.05, 0)), planeSettings());
   GodObjectStepResult r;
   for (int cycle = 0; cycle < 60; ++cycle) r = god.step(at(Vec3(0.01, 0.06, -0.01)));
   EXPECT_LT((god.pose().translation() - Vec3(0.01, 0.06, -0.01)).norm(), 1e-9);
@@ -95,7 +95,7 @@ TEST(GodObject, StopsAtFirstContactWhenThrownAtTheGround) {
   GodObjectSettings s = planeSettings();
   s.couplingGain = 1.0;
   s.maxStepTranslation = 0.0;
-  GodObject<PlaneField> god(tree, ground, Rigid::Identity(), at(Vec3(0, 0.05, 0)), s);
+  GodObject god(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.05, 0)), s);
   const GodObjectStepResult r = god.step(at(Vec3(0.0, -0.2, 0)));
   EXPECT_LT(r.fraction, 1.0);
   EXPECT_GE(minDistance(tree, ground, god.pose()), 0.0);
@@ -103,7 +103,7 @@ TEST(GodObject, StopsAtFirstContactWhenThrownAtTheGround) {
   EXPECT_GT(r.nextContactCount, 0);
   // The discrete variant goes right through in one cycle.
   s.continuous = false;
-  GodObject<PlaneField> discrete(tree, ground, Rigid::Identity(), at(Vec3(0, 0.05, 0)), s);
+  GodObject discrete(ObstacleContacts(tree, ground, Rigid::Identity()), at(Vec3(0, 0.05, 0)), s);
   discrete.step(at(Vec3(0.0, -0.2, 0)));
   EXPECT_LT(minDistance(tree, ground, discrete.pose()), -0.1);
 }
@@ -117,7 +117,7 @@ TEST(GodObject, SlidingAndTwistingOverASphereNeverSinks) {
   GodObjectSettings s = planeSettings();
   s.maxStepTranslation = 1e-3;
   s.maxStepRotation = 0.05;
-  GodObject<SphereField> god(tree, ball, Rigid::Identity(), at(Vec3(0, 0.05 + 0.004 + 1e-5, 0)), s);
+  GodObject god(ObstacleContacts(tree, ball, Rigid::Identity()), at(Vec3(0, 0.05 + 0.004 + 1e-5, 0)), s);
   double lowest = 1e300;
   for (int cycle = 0; cycle < 600; ++cycle) {
     const double u = std::min(1.0, cycle / 500.0);

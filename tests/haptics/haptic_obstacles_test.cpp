@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/god_object.h"
@@ -81,7 +82,7 @@ TEST(HapticObstacles, GodObjectStopsAtEitherOfTwoStaticWalls) {
   const std::vector<HapticObstacle> walls = {wall(-1.0, {}, -kWall), wall(1.0, {}, kWall)};
   ObstacleContacts obstacles(walls, *tree, nullptr);
   const GodObjectSettings s = godSettings();
-  GodObject<GridField> god(*tree, obstacles, Rigid::Identity(), s);
+  GodObject god(std::move(obstacles), Rigid::Identity(), s);
   for (const double side : {1.0, -1.0}) {
     const Rigid device = translation(Vec3(side * 0.05, 0.0, 0.0));
     GodObjectStepResult r;
@@ -116,7 +117,7 @@ TEST(HapticObstacles, PenaltyRestsAgainstEitherOfTwoStaticWalls) {
   const std::vector<HapticObstacle> walls = {wall(-1.0, {}, -kWall), wall(1.0, {}, kWall)};
   ObstacleContacts obstacles(walls, *tree, nullptr);
   const PenaltyRendererSettings p = penaltySettings();
-  PenaltyRenderer<GridField> renderer(*tree, obstacles, Rigid::Identity(), p);
+  PenaltyRenderer renderer(std::move(obstacles), Rigid::Identity(), p);
   for (const double side : {1.0, -1.0}) {
     RigidBodyState device;
     device.worldFromBody = translation(Vec3(side * 0.05, 0.0, 0.0));
@@ -146,7 +147,7 @@ TEST(HapticObstacles, MovingWallPushesTheGodObjectWithoutPenetrating) {
   const std::vector<HapticObstacle> walls = sweepingWall();
   ObstacleContacts obstacles(walls, *tree, nullptr);
   const GodObjectSettings s = godSettings();
-  GodObject<GridField> god(*tree, obstacles, Rigid::Identity(), s);
+  GodObject god(std::move(obstacles), Rigid::Identity(), s);
   const Rigid device = Rigid::Identity();  // the user holds the device where the tool started
   for (int cycle = 0; cycle <= 1000; ++cycle) {
     const double t = 1e-3 * cycle;
@@ -171,7 +172,7 @@ TEST(HapticObstacles, MovingWallCarriesThePenaltyObjectAtItsVelocity) {
   const std::vector<HapticObstacle> walls = sweepingWall();
   ObstacleContacts obstacles(walls, *tree, nullptr);
   const PenaltyRendererSettings p = penaltySettings();
-  PenaltyRenderer<GridField> renderer(*tree, obstacles, Rigid::Identity(), p);
+  PenaltyRenderer renderer(std::move(obstacles), Rigid::Identity(), p);
   RigidBodyState device;  // held at the start
   double deepest = 0.0;
   for (int tick = 0; tick < 800; ++tick) {
@@ -319,7 +320,7 @@ TEST(HapticObstacles, RotatingPaddleNeverPenetratesTheConstraintTool) {
   }
   paddle.path.keys = UserScript(keys);
   ObstacleContacts obstacles({paddle}, *tree, nullptr);
-  GodObject<GridField> god(*tree, obstacles, Rigid::Identity(), godSettings());
+  GodObject god(std::move(obstacles), Rigid::Identity(), godSettings());
   for (int cycle = 0; cycle <= 600; ++cycle) {
     const double t = 1e-3 * cycle;
     god.setObstacleTime(t);
@@ -338,7 +339,7 @@ TEST(HapticObstacles, MovingShellObstacleNeverPenetratesTheConstraintTool) {
   ball.path.keys =
       UserScript({{0.0, translation(Vec3(-0.03, 0.004, 0.002))}, {0.6, translation(Vec3(0.03, 0.004, 0.002))}});
   ObstacleContacts obstacles({ball}, *unusedShell, field.get());
-  GodObject<GridField> god(*unusedShell, obstacles, Rigid::Identity(), godSettings());
+  GodObject god(std::move(obstacles), Rigid::Identity(), godSettings());
   double pushed = 0.0;
   for (int cycle = 0; cycle <= 700; ++cycle) {
     const double t = 1e-3 * cycle;
@@ -361,7 +362,7 @@ TEST(HapticObstacles, WallsClosingInPinchTheGodObjectWithoutNaN) {
       wall(1.0, {}, 0.015)};
   ObstacleContacts obstacles(walls, *tree, nullptr);
   const GodObjectSettings s = godSettings();
-  GodObject<GridField> god(*tree, obstacles, Rigid::Identity(), s);
+  GodObject god(std::move(obstacles), Rigid::Identity(), s);
   bool squeezed = false;
   double squeezedAt = 1.0;
   for (int cycle = 0; cycle <= 600; ++cycle) {
@@ -419,14 +420,14 @@ TEST(HapticObstacles, GodObjectFrictionAgainstAMovingObstacleIsRefused) {
   s.qp.friction = 0.3;
   {
     ObstacleContacts still({wall}, *tree, nullptr);  // a temporary list: the obstacles are copied
-    EXPECT_NO_THROW(GodObject<GridField>(*tree, still, Rigid::Identity(), s));
+    EXPECT_NO_THROW(GodObject(std::move(still), Rigid::Identity(), s));
   }
   std::vector<PoseKeyframe> keys = {{0.0, pose(Vec3(0.0, -0.01, 0.0), Vec3::Zero())},
                                     {1.0, pose(Vec3(0.01, -0.01, 0.0), Vec3::Zero())}};
   wall.path.keys = UserScript(keys);
   ObstacleContacts moving({wall}, *tree, nullptr);
   try {
-    GodObject<GridField> god(*tree, moving, Rigid::Identity(), s);
+    GodObject god(std::move(moving), Rigid::Identity(), s);
     ADD_FAILURE() << "friction against a moving obstacle was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("moving obstacle"), std::string::npos) << e.what();

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "haptics/haptic_test_scenes.h"
+#include "haptics_experiments/session_output.h"
 #include "sdfccd/error.h"
 
 namespace sdfccd::haptics {

@@ -32,8 +32,8 @@ struct FreeBox {
     settings.deviceModel = {0.3, Vec3::Constant(4e-4), 0.0, 0.0};
     start.translation() = Vec3(0.0, 1.0, 0.0);
   }
-  PenaltyRenderer<PlaneField> renderer() const {
-    return PenaltyRenderer<PlaneField>(*scene.tree, *scene.plane, Rigid::Identity(), start, settings);
+  PenaltyRenderer renderer() const {
+    return PenaltyRenderer(ObstacleContacts(*scene.tree, *scene.plane, Rigid::Identity()), start, settings);
   }
 };
 
@@ -43,7 +43,7 @@ struct FreeBox {
 TEST(ImplicitCoupling, ObjectSideIsBackwardEulerAgainstAMovingDevice) {
   const double k = 800.0, h = 1e-3, u = 0.05;
   FreeBox box(k, CouplingIntegration::Implicit);
-  PenaltyRenderer<PlaneField> r = box.renderer();
+  PenaltyRenderer r = box.renderer();
   const double m = box.settings.mass;
   RigidBodyState device;
   device.worldFromBody = box.start;
@@ -78,7 +78,7 @@ struct TwoBodyRun {
 
 TwoBodyRun runTwoBodies(double k, CouplingIntegration integration, int ticks) {
   FreeBox box(k, integration);
-  PenaltyRenderer<PlaneField> r = box.renderer();
+  PenaltyRenderer r = box.renderer();
   DeviceSettings ds;
   ds.mass = box.settings.deviceModel.mass;
   ds.inertiaDiagonal = box.settings.deviceModel.inertiaDiagonal;
@@ -157,10 +157,10 @@ TEST(PenaltyRendererCoherence, PegInsertionIsBitIdenticalToTheFreshQuery) {
     s.coherentCcd = coherent;
     return s;
   };
-  PenaltyRenderer<GridField> fresh(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart,
-                                   makeSettings(false));
-  PenaltyRenderer<GridField> coherent(*scene.tree, *scene.grid, scene.worldFromSdf, scene.worldFromBodyStart,
-                                      makeSettings(true));
+  PenaltyRenderer fresh(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart,
+                        makeSettings(false));
+  PenaltyRenderer coherent(ObstacleContacts(*scene.tree, *scene.grid, scene.worldFromSdf), scene.worldFromBodyStart,
+                           makeSettings(true));
   DeviceEmulator deviceA(scene.device, scene.script, scene.worldFromBodyStart);
   DeviceEmulator deviceB(scene.device, scene.script, scene.worldFromBodyStart);
   const int ticks = static_cast<int>(scene.seconds * scene.device.rateHz);

@@ -46,7 +46,7 @@ void checkGradient(PenaltyDirection direction) {
   double lowest = 1e9;
   for (const Vec3& x : scene.tree->shell().positions) lowest = std::min(lowest, (start.linear() * x).y());
   start.translation() = Vec3(0.0, -lowest - 0.0003, 0.0);
-  PenaltyRenderer<PlaneField> renderer(*scene.tree, *scene.plane, Rigid::Identity(), start, s);
+  PenaltyRenderer renderer(ObstacleContacts(*scene.tree, *scene.plane, Rigid::Identity()), start, s);
   RigidBodyState device;
   device.worldFromBody = start;
   renderer.step(device);  // the gradient is evaluated at the pose this step ends at
@@ -72,7 +72,7 @@ void checkGradient(PenaltyDirection direction) {
   EXPECT_LT(worstColumnError(renderer.contactGradient()), 1e-4) << renderer.contactGradient() << "\nFD:\n" << fd;
   // The symmetric approximation misses the torque's lever (and, with the shell normal, the force's direction).
   s.consistentGradient = false;
-  PenaltyRenderer<PlaneField> former(*scene.tree, *scene.plane, Rigid::Identity(), start, s);
+  PenaltyRenderer former(ObstacleContacts(*scene.tree, *scene.plane, Rigid::Identity()), start, s);
   former.step(device);
   EXPECT_GT(worstColumnError(former.contactGradient()), 1e-2);
 }

@@ -37,16 +37,16 @@
 /// unknown normal force, and its matrix is not symmetric), so NNLS cannot express it. We solve it with
 /// Lemke's method (lemke_lcp.h): finite, exact up to rounding (KKT residuals at rounding level, which the
 /// tests check by brute force), and it always terminates with a solution on this LCP (Stewart & Trinkle
-/// 1996). Not projected Gauss-Seidel: it is iterative, so a sticking contact would creep by its residual every
-/// cycle. Not a convex relaxation (Anitescu's cone complementarity): it lifts a sliding tool off the surface by mu
-/// times its slide. Not a box-constrained dual QP: it fixes the friction bound from the previous normal force and
-/// is exact only at a fixed point. No library: Debian ships neither qpOASES nor OSQP, and a dense Lemke is ~100
-/// lines. Its cost is O(n^2) per pivot with n = contacts * (p + 2), so friction is for contact sets of tens of
-/// points (coplanar patches are first reduced to their hulls by the god-object, reduceContactPatches); friction 0
-/// keeps the NNLS solve exactly. With friction the cycle stays within the 1 ms budget on the alpha puzzle (a few
-/// contacts) but not at the tail of the peg's tight fit (tens of contacts; `bench haptics`, see
-/// docs/benchmarks.md, haptics), where a revised Lemke (a Schur complement on the few basic z, O(n s) per pivot)
-/// would be the next step.
+/// 1996). Projected Gauss-Seidel was rejected because it is iterative: a sticking contact would creep by its
+/// residual every cycle. A convex relaxation (Anitescu's cone complementarity) was rejected because it lifts a
+/// sliding tool off the surface by mu times its slide. A box-constrained dual QP fixes the friction bound from
+/// the previous normal force and is exact only at a fixed point. No library: Debian ships neither qpOASES nor
+/// OSQP, and a dense Lemke is ~100 lines. Its cost is O(n^2) per pivot with n = contacts * (p + 2), so
+/// friction is for contact sets of tens of points (coplanar patches are first reduced to their hulls by the
+/// god-object, reduceContactPatches); friction 0 keeps the NNLS solve exactly. A few contacts (the alpha
+/// puzzle) stay within the haptic budget; tens of contacts in a tight fit (the peg in its hole) do not, where a
+/// revised Lemke (a Schur complement on the few basic z, O(n s) per pivot) would be the next step (`bench haptics`
+/// measures both).
 ///
 /// Thread safety: ContactQpSolver holds scratch buffers; use one per thread.
 #pragma once

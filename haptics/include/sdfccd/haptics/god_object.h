@@ -63,30 +63,24 @@
 /// scalar budget ran out is kept skipped while that bound stays below its clearance: sliding along an axis-aligned
 /// wall (G along it ~0: the peg in its hole) does not use the clearance up.
 ///
-/// Several obstacles (the ObstacleContacts constructor, haptic_obstacles.h): steps 5 and 6 (and the discrete variant's
-/// candidates) gather from every obstacle's pair instead of the one field, the rows in the same form; a cycle whose
-/// time (setObstacleTime) moved an obstacle starts with its push. The clearance cache is the one field's and is off.
+/// Contacts: steps 5 and 6 (and the discrete variant's candidates) gather from every obstacle of the god-object's
+/// contact source (ObstacleContacts, haptic_obstacles.h), the rows in the same form: the scene's one static field is
+/// an obstacle with a fixed pose, and keeps the clearance cache; with several obstacles a cycle whose time
+/// (setObstacleTime) moved an obstacle starts with its push.
 ///
 /// Frames: the shell frame is the god-object's body frame and its origin is the centre of mass.
-/// Defined in god_object.cpp for the field types of field_interface.h.
-/// Thread safety: one GodObject per simulation thread; the tree and the field are only read.
+/// Thread safety: one GodObject per simulation thread; the trees and fields are only read.
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
-#include "sdfccd/ccd/axis_lipschitz_bounds.h"
 #include "sdfccd/ccd/rigid_ccd.h"
-#include "sdfccd/field/field_culling_bounds.h"
 #include "sdfccd/haptics/contact_qp.h"
 #include "sdfccd/haptics/haptic_obstacles.h"
-#include "sdfccd/haptics/local_lipschitz_bounds.h"
 #include "sdfccd/haptics/rigid_body_state.h"  // poses and twists of the god-object
 #include "sdfccd/haptics/spatial_types.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/shell/point_tree.h"
-#include "sdfccd/tolerances.h"
 
 namespace sdfccd::haptics {
 
@@ -118,7 +112,7 @@ struct GodObjectSettings {
 /// One contact of the god-object.
 struct GodObjectContact {
   int point = -1;                          ///< shell point index (of the obstacle's shell when that is the shell)
-  int obstacle = -1;                       ///< -1: the god-object's own field; else the ObstacleContacts index
+  int obstacle = -1;                       ///< the obstacle's index in the contact source (ObstacleContacts)
   Vec3 normalIntoObstacle = Vec3::Zero();  ///< n_k, world, unit
   Vec3 handle = Vec3::Zero();              ///< r_k, world (from the centre to the point)
   double distance = 0.0;                   ///< phi at the point (model units)
@@ -141,17 +135,13 @@ struct GodObjectStepResult {
   /// in); the god-object stayed where it was before the push.
   bool squeezed = false;
 };
-/// The god-object of one manipulated shell against one static field.
-template <class Field>
+/// The god-object of one manipulated shell against the obstacles of its contact source.
 class GodObject {
  public:
-  /// `worldFromSdf` places the static field. Throws sdfccd::Error on bad settings.
-  GodObject(const PointTree& tree, const Field& field, const Rigid& worldFromSdf, const Rigid& worldFromGodStart,
-            const GodObjectSettings& settings);
-  /// Several obstacles, static or moving (haptic_obstacles.h), instead of one static field (`Field` is then unused:
-  /// every contact comes from `obstacles`, which must outlive the god-object). Throws sdfccd::Error on bad settings.
-  GodObject(const PointTree& tree, ObstacleContacts& obstacles, const Rigid& worldFromGodStart,
-            const GodObjectSettings& settings);
+  /// `contacts`: the obstacles, the tool's shell among them (one static field at a fixed pose, or several, static or
+  /// moving); the god-object owns it. Throws sdfccd::Error on bad settings, a non-finite pose, or friction against a
+  /// moving obstacle.
+  GodObject(ObstacleContacts contacts, const Rigid& worldFromGodStart, const GodObjectSettings& settings);
 
   /// The time (s) the obstacles are at during the next cycles: a cycle whose time moved an obstacle first pushes
   /// the god-object out of its way (haptic_obstacles.h).
@@ -163,37 +153,27 @@ class GodObject {
   const Rigid& pose() const { return m_pose; }  ///< worldFromGod
   const std::vector<GodObjectContact>& contacts() const { return m_contacts; }
   const GodObjectSettings& settings() const { return m_settings; }
-  Rigid sdfFromGod() const { return m_sdfFromWorld * m_pose; }
+  /// The deepest penetration (phi < 0) of any obstacle pair at the god-object's pose (model units, >= 0).
+  double penetration() { return m_obstacles.penetration(m_pose); }
 
  private:
-  /// Checks the settings and the start pose; sizes the per-point state of the own field's shell.
-  void initialize(const Rigid& worldFromGodStart);
   /// Moving obstacles: moves them to m_obstacleTime and pushes the god-object out of their way.
   void pushByObstacles(GodObjectStepResult& out);
+  /// Depth correction: the outward lift of the contacts that drifted below sigma (see @details).
+  Vec3 depthCorrection() const;
   /// Step 3: the contact QP, with friction when settings.qp.friction > 0 (contact_qp.h); fills m_qpResult.
   void solveContacts(const Mat6& mass, const Vec6& request);
-  /// Step 5: the earliest contact fraction of the move; collects the reported points as candidates.
-  double continuousFraction(const Rigid& tentative, GodObjectStepResult& out);
-  /// The clearance cache (see @details): marks in m_skip the points that cannot reach sigma on the move.
-  void markUnreachablePoints(const Rigid& start, const Rigid& end);
-  /// The discrete variant: every point near the surface at the new pose.
-  void discreteCandidates(GodObjectStepResult& out);
+  /// Step 4: the tentative move a_c + lift, limited per cycle.
+  Vec6 limitedMove(const Vec3& lift) const;
   /// Step 6: the contact set at the new pose.
   void updateContacts(GodObjectStepResult& out);
 
-  const PointTree& m_tree;
-  const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
-  ObstacleContacts* m_obstacles = nullptr;  // several obstacles (haptic_obstacles.h)
-  double m_obstacleTime = 0.0;              // s
-  Rigid m_worldFromSdf;
-  Rigid m_sdfFromWorld;
+  ObstacleContacts m_obstacles;
+  double m_obstacleTime = 0.0;  // s
   Rigid m_pose;
   GodObjectSettings m_settings;
   std::vector<GodObjectContact> m_contacts;
   std::vector<GodObjectContact> m_next;
-  std::vector<int> m_candidates;
-  std::vector<std::uint8_t> m_inContact;
-  std::vector<std::uint8_t> m_notInContact;
   ConstraintRows m_rows;
   ContactQpSolver m_qp;
   ContactQpResult m_qpResult;
@@ -201,41 +181,6 @@ class GodObject {
   std::vector<Vec3> m_handles;
   std::vector<Vec3> m_patchNormals;  // the same reduced to their patches' hulls (reduceContactPatches)
   std::vector<Vec3> m_patchHandles;
-  RigidCcdResult m_ccd;
-  SegmentCcdResult m_segment;
-  // The clearance cache (clearanceCache).
-  FieldCullingBounds m_bounds;
-  LocalLipschitzBounds m_local;  // grid fields only
-  std::vector<std::uint8_t> m_skip;
-  std::vector<float> m_clearanceBudget;  // model units (see markUnreachablePoints)
-  std::vector<float> m_pointRadius;      // |point - centre|, rounded up
-  double m_travelTranslation = 0.0;      // sum of |centre translation| over the moves (model units)
-  double m_travelRotation = 0.0;         // sum of rotation angles over the moves (rad)
-  // The clearance cache's axis certificates (grid fields; see @details): per point whose last evaluation was in
-  // the field's box, its clearance, block and the travel sums then.
-  struct AxisRecord {
-    // The evaluation point's block bounds (axis_lipschitz_bounds.h), copied so that the check reads one record.
-    float gx = 0.0f, gy = 0.0f, gz = 0.0f, gNorm = 0.0f;
-    // m_travelAxis and m_travelRotation at the evaluation, rounded down (the travel since is overestimated).
-    float travelX = 0.0f, travelY = 0.0f, travelZ = 0.0f, travelRotation = 0.0f;
-    float clearance = -1.0f;  // phi - sigma less the rounding slack, rounded down (model units); <= 0: no record
-  };
-  /// Does point p's axis record rule out reaching sigma after the travel so far (radius: |point - centre|)?
-  bool axisRecordHolds(const AxisRecord& record, double radius) const {
-    if (!(record.clearance > 0.0f)) return false;
-    const double dx = m_travelAxis.x() - static_cast<double>(record.travelX);
-    const double dy = m_travelAxis.y() - static_cast<double>(record.travelY);
-    const double dz = m_travelAxis.z() - static_cast<double>(record.travelZ);
-    const double dR = (m_travelRotation - static_cast<double>(record.travelRotation)) * radius;
-    if (!((dx + dy + dz + dR) * tolerance::kBoundGrowth < m_axisReach)) return false;
-    const double drop = static_cast<double>(record.gx) * dx + static_cast<double>(record.gy) * dy +
-                        static_cast<double>(record.gz) * dz + static_cast<double>(record.gNorm) * dR;
-    return drop * tolerance::kBoundGrowth < static_cast<double>(record.clearance);
-  }
-  double m_axisReach = 0.0;                                 // model units: m_axisBounds->reach()
-  std::shared_ptr<const AxisLipschitzBounds> m_axisBounds;  // grid fields with the clearance cache
-  std::vector<AxisRecord> m_axisRecords;
-  Vec3 m_travelAxis = Vec3::Zero();  // per field axis, sum of |centre translation along it| over the moves
 };
 
 }  // namespace sdfccd::haptics

@@ -1,8 +1,11 @@
 /// @file
-/// @brief Several obstacles of a haptic scene, each a field or a point shell, static or moving along a scripted
-/// pose, and how both haptic methods gather their contacts with the manipulated tool (paper Section 5).
+/// @brief The obstacles of a haptic scene, the one contact source of both haptic methods: one static field at a
+/// fixed pose, or several obstacles, each a field or a point shell, static or moving along a scripted pose (paper
+/// Section 5).
 ///
-/// @details Every obstacle is one (shell, field) pair with the tool:
+/// @details The scene's single static object is one obstacle with a fixed pose (the fixed-field constructor): the
+/// tool's shell against it, with the constraint method's clearance cache and the penalty method's CCD history across
+/// ticks (god_object.h, penalty_renderer.h). A scene's "obstacles" list gives one (shell, field) pair per obstacle:
 /// - a field obstacle (grid, CSG, mesh or plane) against the tool's point shell;
 /// - a shell obstacle against the tool's own field (HapticScene::toolField, in the tool's body frame).
 /// An obstacle's pose follows its keyframes (ObstaclePath, interpolated as the user script), so its velocity over a
@@ -24,7 +27,7 @@
 /// constraints are the first-order ones of the pair (exact for flat faces); the contact threshold widened by the
 /// obstacle's move this cycle makes sure every point it can reach is in the set.
 ///
-/// Thread safety: one ObstacleContacts per renderer (it keeps each pair's contact state and scratch).
+/// Thread safety: one ObstacleContacts per renderer, which owns it (it keeps each pair's contact state and scratch).
 #pragma once
 
 #include <cstdint>
@@ -47,6 +50,7 @@ namespace sdfccd::haptics {
 struct GodObjectSettings;
 struct GodObjectContact;
 struct GodObjectStepResult;
+struct PenaltyRendererSettings;
 
 /// An obstacle's pose over time: fixed, or keyframes (linear positions, slerped orientations, held before the
 /// first and after the last key).
@@ -72,7 +76,7 @@ struct HapticObstacle {
 };
 
 /// One pair's contact gathering (a field obstacle against the tool's shell, or a shell obstacle against the
-/// tool's field). Implemented in haptic_obstacles.cpp.
+/// tool's field). Internal to the library (contact/obstacle_pair.h).
 class ObstaclePair;
 
 /// The penalty method's contact state summed over the obstacles for one tick.
@@ -82,6 +86,7 @@ struct ObstaclePenaltySum {
   int contactCount = 0;
   double maxPenetration = 0.0;  ///< model units
   std::int64_t segmentQueries = 0;
+  std::int64_t certifiedNodes = 0;  ///< the fixed field's CCD history: tree nodes ruled out by their certificate
 };
 
 /// The obstacles of a scene against one tool (see the file comment).
@@ -92,9 +97,22 @@ class ObstacleContacts {
   /// (their fields and shells are shared). Throws sdfccd::Error on an obstacle with neither a field nor a shell,
   /// or a shell obstacle without a tool field.
   ObstacleContacts(const std::vector<HapticObstacle>& obstacles, const PointTree& toolTree, const GridField* toolField);
+  /// One static field at a fixed pose (`worldFromField`) against the tool's shell `toolTree` (body frame, origin at
+  /// the centre of mass); both must outlive this object. Defined for the field types of field_interface.h. Throws
+  /// sdfccd::Error on a non-finite pose.
+  template <class Field>
+  ObstacleContacts(const PointTree& toolTree, const Field& field, const Rigid& worldFromField);
   ~ObstacleContacts();
+  ObstacleContacts(ObstacleContacts&&) noexcept;
+  ObstacleContacts& operator=(ObstacleContacts&&) noexcept;
   ObstacleContacts(const ObstacleContacts&) = delete;
   ObstacleContacts& operator=(const ObstacleContacts&) = delete;
+
+  /// Readies the pairs for the renderer that owns this object: the constraint method with `settings`, or the penalty
+  /// method with `settings`, its contact query and the tool's start pose.
+  void prepare(const GodObjectSettings& settings);
+  void prepare(const PenaltyRendererSettings& settings, const ContactQuerySettings& query,
+               const Rigid& worldFromToolStart);
 
   /// Moves every obstacle to its pose at `time` (s); returns true when one of them moved.
   bool moveTo(double time);

@@ -19,9 +19,10 @@
 /// energy-bounding controller; the observer alone when passivityEnabled is false). An exception in a loop ends the
 /// session with summary.error set and the device rendering zero, instead of terminating the process.
 ///
-/// Several obstacles (scene key "obstacles", haptic_obstacles.h): both methods take their contacts from every
-/// obstacle (GodObject / PenaltyRenderer built on an ObstacleContacts), each simulation step told the device tick's
-/// time so moving obstacles are where their path puts them; penetration is then the deepest over every pair.
+/// Contacts: both methods take them from the scene's one contact source (ObstacleContacts, haptic_obstacles.h): the
+/// single static object as an obstacle with a fixed pose, or the scene's "obstacles", each simulation step told the
+/// device tick's time so moving obstacles are where their path puts them; penetration is the deepest over every pair.
+/// The stages of the haptic tick and of the simulation cycle are listed in src/session/session_stages.h.
 ///
 /// Penetration is measured after each simulation step over every shell point (a point query of the tree at
 /// phi <= 0), outside the timed part of the cycle.
@@ -56,12 +57,6 @@ struct HapticSessionSettings {
   /// force and torque limits are added to `passivity`.
   bool passivityEnabled = true;
   PassivitySettings passivity = defaultSessionPassivity();
-  /// Tests: throw from the simulation cycle with this index, or from the haptic tick with this number (-1: never).
-  /// The session then ends with `error` set and the device rendering zero.
-  struct FaultInjection {
-    std::int64_t simulationCycle = -1;  ///< constraint methods
-    std::int64_t hapticTick = -1;       ///< penalty methods (the step runs in the haptic tick)
-  } faultInjection;
 
   /// The session's default: observer on, force change at most 1 N and torque change at most 0.05 N m per tick.
   static PassivitySettings defaultSessionPassivity() {
@@ -142,10 +137,5 @@ HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessi
 /// device rate (else sdfccd::Error). The session ends after its seconds or when the device runs out.
 HapticSessionResult runHapticSession(const HapticScene& scene, const HapticSessionSettings& settings,
                                      HapticDevice& device);
-
-/// Writes the per-tick CSV (atomically).
-void writeTickCsv(const std::string& path, const std::vector<HapticTickRecord>& ticks);
-/// The summary as a JSON object text (keys in snake_case, as the CLI's summary.json).
-std::string summaryJson(const HapticSessionSummary& summary);
 
 }  // namespace sdfccd::haptics

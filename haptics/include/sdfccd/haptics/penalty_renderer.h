@@ -18,25 +18,24 @@
 ///      shell's normal by default; g the field's gradient, the derivative of its depth; B = [I, -[r]x] maps a pose
 ///      change to the point's motion), plus the terms of order of its force: the shell normal turning with the
 ///      object, and the geometric term of the torque (the lever r turning). Not symmetric: LU solve;
-///      consistentGradient = false keeps the older symmetric -k B^T n n^T B (n the unit gradient);
+///      consistentGradient = false: the symmetric -k B^T n n^T B (n the unit gradient), for comparison;
 ///   5. the device feels the reaction of the coupling.
 /// The device itself is integrated by the DeviceEmulator (explicit, at the same rate): the coupling force it
 /// receives is bounded by F_max, so that step stays stable. Step 2 and the reaction of step 5 are, by default,
 /// those of the device frozen for the tick (CouplingIntegration::Explicit); the implicit modes of
 /// implicit_coupling.h integrate the coupling with the object (and with the device's model where it is known).
 ///
-/// Frames: the shell frame is the simulated object's body frame, its origin the centre of mass; the field is
-/// fixed at worldFromSdf. With several obstacles (haptic_obstacles.h) step 3 and 4 are every pair's query and
-/// gradient over the tick's relative motion, the wrench fed forward by the obstacles' own motion
-/// (ObstacleContacts::penalty).
-/// Defined in penalty_renderer.cpp for the field types of field_interface.h.
+/// Frames: the shell frame is the simulated object's body frame, its origin the centre of mass. Contacts: steps 3 and
+/// 4 are every obstacle's query and gradient over the tick's relative motion (ObstacleContacts, haptic_obstacles.h):
+/// the scene's one static field is an obstacle with a fixed pose, whose query starts from the last tick's CCD front
+/// (coherentCcd); a moving obstacle's wrench is fed forward by its own motion (ObstacleContacts::penalty).
 ///
-/// Thread safety: one renderer per haptic thread; the tree and the field are only read.
+/// Thread safety: one renderer per haptic thread; the trees and fields are only read.
 #pragma once
 
 #include <cstdint>
 
-#include "sdfccd/ccd/segment_ccd.h"
+#include "sdfccd/ccd/rigid_ccd.h"
 #include "sdfccd/haptics/haptic_obstacles.h"
 #include "sdfccd/haptics/implicit_coupling.h"
 #include "sdfccd/haptics/rigid_body_state.h"
@@ -61,7 +60,7 @@ struct PenaltyRendererSettings {
   int threads = 1;       ///< CCD worker threads
   bool implicit = true;  ///< false: symplectic Euler (for comparison)
   /// The contact gradient with the force's own direction and the torque's geometric term (see step 4); false: the
-  /// symmetric field-normal approximation the renderer used before (for comparison, Fig. 10b).
+  /// symmetric field-normal approximation (for comparison, Fig. 10b).
   bool consistentGradient = true;
   /// The CCD started from the last tick's front (temporal coherence, rigid_ccd_coherence.h): the contacts are the
   /// fresh query's bit for bit; false: the fresh query every tick (for comparison).
@@ -69,8 +68,8 @@ struct PenaltyRendererSettings {
   /// With coherentCcd: certificates that split the motion per axis of the field (axis_lipschitz_bounds.h), so that
   /// sliding along an axis-aligned wall does not use up a point's clearance; the same contacts bit for bit.
   bool axisCertificates = true;
-  /// How the coupling enters the step and what the device is rendered (implicit_coupling.h): Explicit (default: the
-  /// device frozen for the tick, rendered the coupling at the tick's start), Implicit (the
+  /// How the coupling enters the step and what the device is rendered (implicit_coupling.h): Explicit (default:
+  /// the device frozen for the tick, rendered the coupling at the tick's start), Implicit (the
   /// paper's admittance mode: rendered the coupling at the end of the object's implicit step) or ImplicitWithDevice
   /// (the device's dynamics, `deviceModel`, in the same backward Euler step). Both implicit modes need `implicit`.
   CouplingIntegration couplingIntegration = CouplingIntegration::Explicit;
@@ -87,19 +86,14 @@ struct PenaltyStepResult {
   std::int64_t certifiedNodes = 0;  ///< coherent CCD: tree nodes ruled out by their certificate alone
 };
 
-/// The renderer of one simulated object against one fixed field.
-template <class Field>
+/// The renderer of one simulated object against the obstacles of its contact source.
 class PenaltyRenderer {
  public:
-  /// `worldFromSdf` places the fixed field, `worldFromBodyStart` the object. Throws sdfccd::Error on bad
-  /// settings or a non-finite pose.
-  PenaltyRenderer(const PointTree& tree, const Field& field, const Rigid& worldFromSdf, const Rigid& worldFromBodyStart,
-                  const PenaltyRendererSettings& settings);
-  /// Several obstacles, static or moving (haptic_obstacles.h), instead of one fixed field (`Field` is then unused;
-  /// `obstacles` must outlive the renderer). Each tick's contacts are every pair's, over the relative motion of the
-  /// tick [time, time + timestep] (setObstacleTime).
-  PenaltyRenderer(const PointTree& tree, ObstacleContacts& obstacles, const Rigid& worldFromBodyStart,
-                  const PenaltyRendererSettings& settings);
+  /// `contacts`: the obstacles, the object's shell among them (one static field at a fixed pose, or several, static
+  /// or moving; each tick's contacts are over the relative motion of [time, time + timestep], setObstacleTime); the
+  /// renderer owns it. `worldFromBodyStart` places the object. Throws sdfccd::Error on bad settings or a non-finite
+  /// pose.
+  PenaltyRenderer(ObstacleContacts contacts, const Rigid& worldFromBodyStart, const PenaltyRendererSettings& settings);
 
   /// The time (s) at the start of the next tick (the obstacles move over [time, time + timestep]).
   void setObstacleTime(double time) { m_obstacleTime = time; }
@@ -109,34 +103,30 @@ class PenaltyRenderer {
 
   const RigidBodyState& state() const { return m_state; }
   const PenaltyRendererSettings& settings() const { return m_settings; }
-  Rigid sdfFromBody() const { return m_sdfFromWorld * m_state.worldFromBody; }
   /// d(contact wrench)/d(pose) at the current pose, used by the next step (N/m, N, N m blocks).
   const Mat6& contactGradient() const { return m_contactGradient; }
+  /// The deepest penetration (phi < 0) of any obstacle pair at the object's pose (model units, >= 0).
+  double penetration() { return m_obstacles.penetration(m_state.worldFromBody); }
 
  private:
-  PenaltyRenderer(const PointTree& tree, const Field* field, ObstacleContacts* obstacles, const Rigid& worldFromSdf,
-                  const Rigid& worldFromBodyStart, const PenaltyRendererSettings& settings);
-  void updateContactGradient();
-  /// The obstacles' contacts over the step just taken (`shell`: the tool's motion): wrench, gradient, result.
-  PenaltyStepResult obstacleContacts(const ShellMotion& shell, PenaltyStepResult out);
+  /// The velocity change of the tick (steps 1 and 2): explicit, implicit with the coupling frozen, or one of the
+  /// implicit coupling modes (`out` gets the wrench to render).
+  Vec6 velocityChange(const RigidBodyState& device, const CouplingWrench& coupling, const Mat6& mass,
+                      PenaltyStepResult& out) const;
   Vec6 coupledVelocityChange(const RigidBodyState& device, const CouplingWrench& coupling, const Mat6& mass,
                              PenaltyStepResult& out) const;
+  /// Steps 3 and 4: the obstacles' contacts over the step just taken (`shell`: the object's motion): wrench,
+  /// gradient, result.
+  PenaltyStepResult contactsOver(const ShellMotion& shell, PenaltyStepResult out);
 
-  const PointTree& m_tree;
-  const Field* m_field = nullptr;           // null: every contact comes from m_obstacles
-  ObstacleContacts* m_obstacles = nullptr;  // several obstacles (haptic_obstacles.h)
-  double m_obstacleTime = 0.0;              // s
+  ObstacleContacts m_obstacles;
+  double m_obstacleTime = 0.0;  // s
   ObstaclePenaltySum m_obstacleSum;
-  Rigid m_worldFromSdf;
-  Rigid m_sdfFromWorld;
   PenaltyRendererSettings m_settings;
   RigidBodyState m_state;
-  FieldMotion m_fieldMotion;
   ContactQuerySettings m_query;
   Vec6 m_contactWrench = Vec6::Zero();
   Mat6 m_contactGradient = Mat6::Zero();
-  ContactQueryResult m_contacts;
-  RigidCcdCoherence m_coherence;  ///< the CCD's history across ticks (settings.coherentCcd)
 };
 
 }  // namespace sdfccd::haptics

@@ -34,6 +34,8 @@ class UserScript {
   Rigid targetAt(double time) const;
   double duration() const { return m_keys.empty() ? 0.0 : m_keys.back().time; }  ///< s, time of the last key
   const std::vector<PoseKeyframe>& keys() const { return m_keys; }
+  /// The fastest the target moves (model units / s): the largest distance between consecutive keys over their time.
+  double peakSpeed() const;
 
  private:
   std::vector<PoseKeyframe> m_keys;

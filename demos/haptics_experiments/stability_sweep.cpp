@@ -1,28 +1,19 @@
 /// @file
 /// @brief Fig. 10b: the largest stable penalty stiffness of a scene (see stability_sweep.h).
-#include "sdfccd/haptics/stability_sweep.h"
+#include "haptics_experiments/stability_sweep.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "sdfccd/error.h"
 
 namespace sdfccd::haptics {
 
 namespace {
-
-double scriptPeakSpeed(const UserScript& script) {
-  double peak = 0.0;
-  const std::vector<PoseKeyframe>& keys = script.keys();
-  for (std::size_t i = 1; i < keys.size(); ++i) {
-    const double dt = keys[i].time - keys[i - 1].time;
-    if (dt > 0.0)
-      peak = std::max(peak,
-                      (keys[i].worldFromTarget.translation() - keys[i - 1].worldFromTarget.translation()).norm() / dt);
-  }
-  return peak;
-}
 
 std::string describe(const char* what, double value, double limit) {
   char text[160];
@@ -49,7 +40,7 @@ StabilityRun runAtStiffness(const HapticScene& sceneIn, HapticMethod method, dou
   run.inserted = r.summary.inserted;
   run.cycleP50Ms = r.summary.simCycleP50Ms;
   const double period = 1.0 / scene.device.rateHz;
-  const double speedLimit = criteria.maxSpeedFactor * scriptPeakSpeed(scene.script) + 0.01;
+  const double speedLimit = criteria.maxSpeedFactor * scene.script.peakSpeed() + 0.01;
   const std::size_t tailStart =
       r.ticks.size() - std::min<std::size_t>(r.ticks.size(), std::size_t(criteria.tailSeconds / period));
   std::int64_t reversals = 0, tailTicks = 0;

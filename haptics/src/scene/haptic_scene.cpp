@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-#include "haptic_scene_reader.h"
+#include "scene/haptic_scene_reader.h"
 #include "sdfccd/error.h"
 #include "sdfccd/mesh/mass_properties.h"
 #include "sdfccd/mesh/procedural_meshes.h"
@@ -347,26 +347,24 @@ void readPenalty(const Reader& r, const Json& root, double cell, PenaltyRenderer
   p.coupling.maxRotation = r.positive(c, "maxRotation", where, p.coupling.maxRotation);
 }
 
+/// One check, checks.<name> = {<axisKey>: a unit vector, <levelKey>: a number}: false when the scene has none.
+bool readCheck(const Reader& r, const Json& checks, const std::string& name, const std::string& axisKey,
+               const std::string& levelKey, Vec3& axis, double& level) {
+  if (!checks.contains(name)) return false;
+  const std::string where = "checks." + name;
+  const Json& c = r.object(checks, name, "checks");
+  r.checkKeys(c, {axisKey, levelKey}, where);
+  axis = unitAxis(r, c, axisKey, where);
+  level = r.number(c, levelKey, where, 0.0, true);
+  return true;
+}
+
 void readChecks(const Reader& r, const Json& root, HapticSceneChecks& checks) {
   if (!root.contains("checks")) return;
   const Json& c = r.object(root, "checks", "");
   r.checkKeys(c, {"insert", "tunnel"}, "checks");
-  if (c.contains("insert")) {
-    const std::string where = "checks.insert";
-    const Json& i = r.object(c, "insert", "checks");
-    r.checkKeys(i, {"axis", "depth"}, where);
-    checks.hasInsert = true;
-    checks.insertAxis = unitAxis(r, i, "axis", where);
-    checks.insertDepth = r.number(i, "depth", where, 0.0, true);
-  }
-  if (c.contains("tunnel")) {
-    const std::string where = "checks.tunnel";
-    const Json& t = r.object(c, "tunnel", "checks");
-    r.checkKeys(t, {"normal", "offset"}, where);
-    checks.hasTunnel = true;
-    checks.tunnelNormal = unitAxis(r, t, "normal", where);
-    checks.tunnelOffset = r.number(t, "offset", where, 0.0, true);
-  }
+  checks.hasInsert = readCheck(r, c, "insert", "axis", "depth", checks.insertAxis, checks.insertDepth);
+  checks.hasTunnel = readCheck(r, c, "tunnel", "normal", "offset", checks.tunnelNormal, checks.tunnelOffset);
 }
 
 }  // namespace

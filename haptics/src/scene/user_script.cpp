@@ -82,4 +82,14 @@ Rigid UserScript::targetAt(double time) const {
   return interpolatePose(a.worldFromTarget, b.worldFromTarget, (time - a.time) / (b.time - a.time));
 }
 
+double UserScript::peakSpeed() const {
+  double peak = 0.0;
+  for (std::size_t i = 1; i < m_keys.size(); ++i) {
+    const double dt = m_keys[i].time - m_keys[i - 1].time;
+    const double d = (m_keys[i].worldFromTarget.translation() - m_keys[i - 1].worldFromTarget.translation()).norm();
+    if (dt > 0.0) peak = std::max(peak, d / dt);
+  }
+  return peak;
+}
+
 }  // namespace sdfccd::haptics

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mass_cholesky.h"
+#include "solver/mass_cholesky.h"
 
 namespace sdfccd::haptics {
 

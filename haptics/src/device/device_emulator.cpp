@@ -6,8 +6,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "coupling/vector_limits.h"
 #include "sdfccd/error.h"
-#include "vector_limits.h"
 
 namespace sdfccd::haptics {
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "sdfccd/haptics/spatial_types.h"
+#include "sdfccd/math_types.h"
 
 namespace sdfccd::haptics {
 

@@ -1,11 +1,16 @@
 /// @file
-/// @brief What a haptic session writes: the per-tick CSV and the summary JSON.
+/// @brief What the tool writes of a haptic session: the per-tick CSV and the summary JSON (see session_output.h).
+#include "haptics_experiments/session_output.h"
+
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
+#include <ostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
-#include "sdfccd/haptics/haptic_session.h"
+#include "sdfccd/math_types.h"
 #include "sdfccd/output_file.h"
 
 namespace sdfccd::haptics {

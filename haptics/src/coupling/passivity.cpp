@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coupling/vector_limits.h"
 #include "sdfccd/error.h"
-#include "vector_limits.h"
 
 namespace sdfccd::haptics {
 

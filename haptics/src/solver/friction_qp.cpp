@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "mass_cholesky.h"
 #include "sdfccd/haptics/contact_qp.h"
 #include "sdfccd/math_types.h"
+#include "solver/mass_cholesky.h"
 
 namespace sdfccd::haptics {
 

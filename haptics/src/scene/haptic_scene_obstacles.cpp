@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <string>
 
-#include "haptic_scene_reader.h"
+#include "scene/haptic_scene_reader.h"
 #include "sdfccd/error.h"
 #include "sdfccd/haptics/procedural_shapes.h"
 #include "sdfccd/shell/point_shell.h"

@@ -1,6 +1,6 @@
 /// @file
 /// @brief SessionGuard: the runaway watchdog of a haptic session (see session_guard.h).
-#include "session_guard.h"
+#include "session/session_guard.h"
 
 #include <algorithm>
 #include <limits>
@@ -8,18 +8,6 @@
 namespace sdfccd::haptics {
 
 namespace {
-
-/// The fastest the scripted target moves (m/s): the largest distance between consecutive keys over their time.
-double peakScriptSpeed(const UserScript& script) {
-  double peak = 0.0;
-  const std::vector<PoseKeyframe>& keys = script.keys();
-  for (std::size_t i = 1; i < keys.size(); ++i) {
-    const double dt = keys[i].time - keys[i - 1].time;
-    const double d = (keys[i].worldFromTarget.translation() - keys[i - 1].worldFromTarget.translation()).norm();
-    if (dt > 0.0) peak = std::max(peak, d / dt);
-  }
-  return peak;
-}
 
 /// A haptic scene as the runaway guard (sdfccd/model/runaway_guard.h) sees it: the simulated object, dynamic and at
 /// rest at its start pose, and the user's hand as a kinematic body moving at the script's peak speed, so the guard
@@ -38,9 +26,9 @@ Scene guardScene(const HapticScene& scene) {
   hand.kinematic = true;
   hand.position = object.position;
   // A moving obstacle pushes the object as the hand does: the faster of the two.
-  double peak = peakScriptSpeed(scene.script);
+  double peak = scene.script.peakSpeed();
   for (const HapticObstacle& o : scene.obstacles)
-    if (o.path.keys) peak = std::max(peak, peakScriptSpeed(*o.path.keys));
+    if (o.path.keys) peak = std::max(peak, o.path.keys->peakSpeed());
   hand.velocity = Vec3(peak, 0.0, 0.0);
   g.bodies = {object, hand};
   return g;
