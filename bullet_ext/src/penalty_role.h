@@ -218,6 +218,7 @@ void fillPenaltyInput(const PenaltyRoleFacts<Body>& f, PenaltyRoleInput& in) {
   query.penalty.friction = f.friction;
   query.penalty.dampingRatio = f.dampingRatio;
   query.cellSize = f.cellSize;
+  query.arbitrateNormals = true;  // the normal from the flatter surface (contact_normal.h)
   query.anchors = f.anchors;
   query.coherence = f.coherence;
   query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose

@@ -251,7 +251,14 @@ void SdfccdContactSystem::writeSolverManifolds(const btCollisionObjectWrapper* w
   for (double d : m_candidateDistance) largest = std::max(largest, d);
   const btScalar breaking = btScalar(std::max(pair.bulletBreakingThreshold, largest + 2.0 * m_candidateMargin));
   const btScalar processing = std::min(a->getContactProcessingThreshold(), b->getContactProcessingThreshold());
-  const Material material = combinedMaterial(a, b);
+  Material material = combinedMaterial(a, b);
+  // The world's friction settings hold in this mode too: without friction no friction rows (nor rolling or
+  // spinning ones); a fixed coefficient replaces the bodies' combined one.
+  if (!m_settings.penalty.enableFriction) {
+    material.friction = material.rolling = material.spinning = 0;
+  } else if (!m_settings.penalty.frictionFromBodies) {
+    material.friction = btScalar(m_settings.penalty.friction);
+  }
   for (int c = 0; c < reduced.clusterCount; ++c) {
     btPersistentManifold* m = slots[static_cast<std::size_t>(slotOf[static_cast<std::size_t>(c)])];
     m->setContactBreakingThreshold(breaking);
