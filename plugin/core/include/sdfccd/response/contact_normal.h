@@ -15,13 +15,13 @@
 /// - the shell's, from the point's outward normal and those of its neighbours on the shell (shellCurvatures:
 ///   zero inside a face, large at an edge's or a corner's averaged normals).
 /// The shell's own normal (turned to point out of the field body) gets the weight
-///   w = k_field / (k_field + k_shell + k_floor),
+///   w = max(0, k_field - k_shell - k_floor) / (k_field + k_floor),
 /// and the contact normal is normalize((1 - w) g - w m) for the field's unit gradient g and the shell's unit
 /// normal m. A face on an edge takes the face's normal from whichever role sees it (w near 1 where the field has
-/// the edge, 0 where the shell has it); two faces, or the ground, keep the gradient exactly (w = 0); two curved
-/// surfaces (a bunny on a bunny) take about the mean of both normals, the rule MuJoCo uses for every SDF pair,
-/// so both roles of the pair agree on the direction of their contact. k_floor (kCurvatureFloorPerStep / step)
-/// keeps two flat surfaces' noise from deciding anything.
+/// the edge, 0 where the shell has it). Where neither surface is clearly the flatter (two faces, two edges, two
+/// curved surfaces) the gradient stays exactly (w = 0), as it does on the ground: only a decided difference
+/// moves a normal, so aligned stacks, whose edges meet edges, keep the rows that hold them. k_floor
+/// (kCurvatureFloorPerStep / step) keeps a flat surface's noise from deciding anything.
 #pragma once
 
 #include <algorithm>
@@ -81,8 +81,9 @@ double fieldCurvature(const Field& field, const Vec3& pointInSdf, const Vec3& un
 inline double shellNormalWeight(double fieldCurvatureValue, double shellCurvatureValue, double step) {
   if (!(fieldCurvatureValue > 0.0) || !(step > 0.0)) return 0.0;
   const double floor = kCurvatureFloorPerStep / step;
-  if (fieldCurvatureValue <= floor) return 0.0;
-  return fieldCurvatureValue / (fieldCurvatureValue + std::max(0.0, shellCurvatureValue) + floor);
+  const double excess = fieldCurvatureValue - std::max(0.0, shellCurvatureValue) - floor;
+  if (!(excess > 0.0)) return 0.0;
+  return std::min(1.0, excess / (fieldCurvatureValue + floor));
 }
 
 /// normalize((1 - w) g - w m) for unit vectors g (the field's gradient) and m (the shell's outward normal); g when
