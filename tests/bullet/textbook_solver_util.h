@@ -51,7 +51,7 @@ inline std::string sceneText(const std::vector<std::string>& bodies, const Vec3&
                              const std::string& mode = "solver") {
   std::ostringstream s;
   s << "{\"timestep\": " << kStep << ", \"gravity\": " << vec(gravity)
-    << ", \"effects\": [\"gravity\", \"ground\", \"rotation\"], \"sleeping\": " << (sleeping ? "true" : "false")
+    << ", \"effects\": [\"gravity\", \"ground\", \"rotation\", \"friction\"], \"sleeping\": " << (sleeping ? "true" : "false")
     << ", \"contact\": {\"mode\": \"" << mode << "\"}, \"bodies\": [";
   for (std::size_t i = 0; i < bodies.size(); ++i) s << (i ? ", " : "") << bodies[i];
   s << "]}";

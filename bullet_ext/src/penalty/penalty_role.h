@@ -208,6 +208,7 @@ inline void fillPenaltyInput(const PenaltyRoleFacts& f, PenaltyRoleInput& in) {
   query.penalty.friction = f.friction;
   query.penalty.dampingRatio = f.dampingRatio;
   query.cellSize = f.cellSize;
+  query.arbitrateNormals = true;  // the normal from the flatter surface (contact_normal.h)
   query.anchors = f.anchors;
   query.coherence = f.coherence;
   query.discreteMode = CcdMode::AllIntervals;  // every contact at the end pose

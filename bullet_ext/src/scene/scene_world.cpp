@@ -198,6 +198,8 @@ SceneWorld::SceneWorld(const Scene& scene, const SceneWorldSettings& settings) :
   if (m_scene.has("ground")) {
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(m_scene.groundHeight));
     btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
+    info.m_friction = btScalar(m_scene.groundFriction);
+    info.m_restitution = btScalar(m_scene.groundRestitution);
     auto ground = std::make_unique<btRigidBody>(info);
     m_world->addRigidBody(ground.get());
     m_bullet->shapes.push_back(std::move(plane));

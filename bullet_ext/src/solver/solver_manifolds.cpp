@@ -248,7 +248,14 @@ void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisi
   for (double d : candidates.distance) largest = std::max(largest, d);
   const btScalar breaking = btScalar(std::max(pair.bulletBreakingThreshold, largest + 2.0 * candidates.margin));
   const btScalar processing = std::min(a->getContactProcessingThreshold(), b->getContactProcessingThreshold());
-  const Material material = combinedMaterial(a, b);
+  Material material = combinedMaterial(a, b);
+  // The world's friction settings hold in this mode too: without friction no friction rows (nor rolling or
+  // spinning ones); a fixed coefficient replaces the bodies' combined one.
+  if (!m_settings.penalty.enableFriction) {
+    material.friction = material.rolling = material.spinning = 0;
+  } else if (!m_settings.penalty.frictionFromBodies) {
+    material.friction = btScalar(m_settings.penalty.friction);
+  }
   for (int c = 0; c < reduced.clusterCount; ++c) {
     btPersistentManifold* m = slots[static_cast<std::size_t>(slotOf[static_cast<std::size_t>(c)])];
     m->setContactBreakingThreshold(breaking);

@@ -22,6 +22,7 @@
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/field/grid_field.h"
 #include "sdfccd/field/polytope_fields.h"
+#include "sdfccd/response/contact_normal.h"
 #include "sdfccd/tolerances.h"
 #include "step/contact_record.h"
 
@@ -90,8 +91,8 @@ struct ArcGap {
 /// speed before the step's forces): e v alone would lose d' / dt, and e v from d instead of 0 would rise higher by
 /// about d + e v dt / 2 (23% over e^2 h for e = 0.3 dropped from 30 cm at 1/240 s). So the target v' is the one whose
 /// apex under the step's normal acceleration a (symplectic Euler: d + v' dt / 2 + v'^2 / (2 a)) is e^2 times the
-/// height the point falls from over its contact, (V^2 + 2 a d) / (2 a) with V its approach speed in the step; with
-/// no acceleration toward the contact, v' = e V.
+/// height the point fell from over its contact, d + V^2 / (2 a) + V dt / 2 with V its approach speed before the
+/// step's forces (the same integrator on the way down); with no acceleration toward the contact, v' = e V.
 /// Returns what the writer adds to e; `speed`: the approach speed before the step's forces (Bullet's -rel_vel),
 /// `lineApproach`: the approach over the step (after them), `dt`: the step (s).
 double reboundCoefficient(double e, double gap, double solverDistance, double speed, double lineApproach, double dt) {
@@ -100,7 +101,10 @@ double reboundCoefficient(double e, double gap, double solverDistance, double sp
   const double acceleration = (approachSpeed - speed) / dt;
   double target = e * approachSpeed;
   if (acceleration > 0.0) {
-    const double apex = e * e * (approachSpeed * approachSpeed + 2.0 * acceleration * gap) / (2.0 * acceleration);
+    // The height the point fell from: symplectic Euler from rest reaches speed V (before this step's forces) at
+    // V^2 / (2 a) + V dt / 2 below its apex.
+    const double fallHeight = gap + speed * speed / (2.0 * acceleration) + 0.5 * speed * dt;
+    const double apex = e * e * fallHeight;
     const double half = 0.5 * dt;
     const double discriminant = half * half - 2.0 * (gap - apex) / acceleration;
     if (discriminant >= 0.0) target = acceleration * (-half + std::sqrt(discriminant));
@@ -166,8 +170,23 @@ void computeSolverRole(const PointTree& tree, const Field& field, const SolverRo
     } else {
       continue;
     }
-    const double length = normalInSdf.norm();
+    double length = normalInSdf.norm();
     if (!(length > tolerance::kMinDirectionLength) || !std::isfinite(distance) || !normalInSdf.allFinite()) continue;
+    {
+      // The normal from the flatter of the two surfaces at the contact (contact_normal.h): a face of the shell's
+      // body over an edge of the field's gives the face's normal.
+      const Vec3 at = c.state == SegmentState::Hit ? Vec3(p0 + c.fraction * (p1 - p0)) : p0;
+      const Vec3 gradientUnit = normalInSdf / length;
+      const double w = shellNormalWeight(fieldCurvature(field, at, gradientUnit, in.cellSize),
+                                         tree.curvature(c.point), in.cellSize);
+      if (w > 0.0) {
+        const Vec3 shellNormalInSdf =
+            in.sdfFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
+        normalInSdf = arbitratedNormal(gradientUnit, shellNormalInSdf, w);
+        length = 1.0;
+        if (c.state == SegmentState::Hit) distance = normalInSdf.dot(p0 - at) + margin;
+      }
+    }
     // How far the point's own chord over the predicted step travels towards its contact plane.
     const double approach = normalInSdf.dot(p0 - p1) / length;
     // Out of the field body, towards the shell point; Bullet's normal is on body 1, pointing to body 0.

@@ -189,8 +189,10 @@ Scene parseScene(const std::string& text, const std::string& name, const std::st
   if (root.contains("ground")) {
     const Json& g = root.at("ground");
     r.checkObject(g, "ground");
-    r.checkKeys(g, {"height"}, "ground");
+    r.checkKeys(g, {"height", "friction", "restitution"}, "ground");
     s.groundHeight = r.ranged(g, "height", "ground", 0.0, -kMaxCoordinate, kMaxCoordinate);
+    s.groundFriction = r.ranged(g, "friction", "ground", s.groundFriction, 0.0, kMaxFriction);
+    s.groundRestitution = r.ranged(g, "restitution", "ground", s.groundRestitution, 0.0, 1.0);
   }
   if (root.contains("camera")) {
     // Read by the renderer (sdfccd simulate --render, sdfccd render); checked here so a typo fails early.

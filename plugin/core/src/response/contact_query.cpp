@@ -63,6 +63,7 @@ void queryContacts(const PointTree& shellTree, const Field& field, const ShellMo
   input.cellSize = settings.cellSize;
   input.anchors = settings.anchors;
   input.areas = &shellTree.shell().areas;
+  if (settings.arbitrateNormals) input.curvatures = &shellTree.curvatures();
   outResult.penalty = integratePenaltyWithCoefficients(pointsInShell, field, outResult.ccd, shell, fieldBody, timestep,
                                                        settings.penalty, input, outResult.coefficients);
   outResult.penalty.stiffnessCapped = outResult.coefficients.stiffnessCapped;

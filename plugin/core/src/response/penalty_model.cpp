@@ -3,6 +3,7 @@
 /// field_interface.h; beyond the paper: per-area stiffness with per-pair caps, the Blend direction and anchor
 /// friction (docs/design/contact-response.md, penalty mode).
 #include "sdfccd/response/penalty_model.h"
+#include "sdfccd/response/contact_normal.h"
 
 #include <algorithm>
 #include <cmath>
@@ -221,6 +222,7 @@ struct PenaltyPointPath {
   double damping = 0.0;               // c_i, N s/m
   FrictionSettings law;               // anchor friction's tangential law for this point
   std::size_t anchor = 0;             // index in the anchor table (anchor friction)
+  double shellWeight = 0.0;           // the least weight of the shell normal in the direction (contact_normal.h)
 
   PenaltyPointPath(const Vec3& pointInShell, const Vec3& normalInShell, const ShellMotion& shell,
                    const PenaltyPathFrames& frames)
@@ -314,6 +316,7 @@ SDFCCD_FORCE_INLINE Vec3 penaltyDirection(const Field& field, const PenaltyPoint
       const double x = std::clamp((-depth - role.blendStart) / role.blendWidth, 0.0, 1.0);
       w = x * x * (3.0 - 2.0 * x);
     }
+    w = std::max(w, path.shellWeight);
     if (w < 1.0) {
       Vec3 away;
       bool hasAway = true;
@@ -614,6 +617,18 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
     path.law.friction = settings.friction;
     path.law.tangentialStiffness = path.stiffness;
     path.law.tangentialDamping = kTangentialDampingShare * path.damping;
+    if (input.curvatures != nullptr && role.gradientDirection) {
+      // Where the point first touches (its start when it starts inside), which surface gives the direction.
+      const Vec3 at = contact.state == SegmentState::StartsInside
+                          ? path.pointInSdf.start
+                          : path.pointInSdf.at(std::clamp(contact.fraction, 0.0, 1.0));
+      const Vec3 gradient = field.gradient(at);
+      const double length = gradient.norm();
+      if (length > 0.0 && gradient.allFinite()) {
+        path.shellWeight = shellNormalWeight(fieldCurvature(field, at, Vec3(gradient / length), input.cellSize),
+                                             (*input.curvatures)[index], input.cellSize);
+      }
+    }
     if (anchored) {
       // A new point is anchored where it entered: p_sdf(t_hit), p_sdf(0) if it starts inside, the end pose in
       // the discrete model (its only sample).

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "sdfccd/error.h"
+#include "sdfccd/response/contact_normal.h"
 
 namespace sdfccd {
 
@@ -17,6 +18,7 @@ PointTree::PointTree(PointShell shell, const PointTreeSettings& settings) : m_sh
   if (settings.refinements < 0 || settings.refinements > 100) throw Error("PointTree: refinements must be in [0, 100]");
   if (m_shell.size() > static_cast<std::size_t>(1) << 30) throw Error("PointTree: too many points");
 
+  m_curvature = shellCurvatures(m_shell);
   const int count = static_cast<int>(m_shell.size());
   const auto& x = m_shell.positions;
   std::vector<int> perm(count);

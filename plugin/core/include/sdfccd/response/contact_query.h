@@ -49,6 +49,9 @@ struct ContactQuerySettings {
   int threads = 1;                               ///< CCD worker threads (0: all cores)
   bool integratePenalty = true;                  ///< false: the CCD only
   double cellSize = 0.0;                         ///< the field's cell (model units): the Blend direction's band
+  /// Each contact's force direction from the flatter of the two surfaces (contact_normal.h): for a pair of two
+  /// bodies with shells, whose other role sees the mirror contact.
+  bool arbitrateNormals = false;
   /// io: this pair and role's friction anchors, kept by the caller across steps (FrictionModel::Anchor); null:
   /// no anchor friction (the regularized law is used instead).
   FrictionAnchorTable* anchors = nullptr;

@@ -203,6 +203,10 @@ struct PenaltyRoleInput {
   double stiffnessPerArea = 0.0;               ///< N/m^3 after s_r and the cap: k_i = this A_i (0: per point)
   double dampingPerStiffness = -1.0;           ///< s: c_i = this k_i (< 0: the per-point `damping`)
   double cellSize = 0.0;                       ///< the field's cell (model units): the Blend band
+  /// The shell's curvature per point (PointTree::curvatures); null: every direction from the field alone. With
+  /// it, a contact's direction leans to the shell's normal where the field is the more curved surface
+  /// (contact_normal.h), over the whole step.
+  const std::vector<double>* curvatures = nullptr;
   FrictionAnchorTable* anchors = nullptr;      ///< io: this pair and role's anchors (FrictionModel::Anchor)
 };
 

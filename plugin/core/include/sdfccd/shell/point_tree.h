@@ -55,6 +55,10 @@ class PointTree {
   bool isLeaf(int node) const { return m_childCount[node] == 0; }
   /// The leaf of shell point p.
   int leafOf(int point) const { return m_leafOfPoint[point]; }
+  /// The shell's curvature at point p (rad per model unit; shellCurvatures, response/contact_normal.h): which
+  /// surface of a pair gives a contact's normal.
+  double curvature(int point) const { return m_curvature[static_cast<std::size_t>(point)]; }
+  const std::vector<double>& curvatures() const { return m_curvature; }
 
   // The arrays, for traversals that stream through them.
   const std::vector<Vec3>& centers() const { return m_center; }
@@ -72,6 +76,7 @@ class PointTree {
  private:
   InstanceId m_id;
   PointShell m_shell;
+  std::vector<double> m_curvature;
   std::vector<Vec3> m_center;
   std::vector<double> m_radius;
   std::vector<int> m_nodePoint;

@@ -33,6 +33,10 @@ struct Scene {
   Vec3 gravity = Vec3(0, -9.81, 0);  ///< m/s^2, used only with the "gravity" effect
   std::set<std::string> effects;
   double groundHeight = 0.0;          ///< m, used only with the "ground" effect
+  /// The ground's material, combined with each body's the Bullet way (products): 1 and 1 give a body on the
+  /// ground its own friction and restitution.
+  double groundFriction = 1.0;
+  double groundRestitution = 1.0;
   bool sleeping = true;               ///< bodies at rest may sleep (Bullet's thresholds); false: always simulated
   std::optional<SceneCamera> camera;  ///< for the renderer; empty: automatic framing
   SceneContact contact;
