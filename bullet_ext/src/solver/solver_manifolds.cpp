@@ -182,7 +182,8 @@ void solverPairManifolds(const SolverPair* pair, btManifoldArray& manifoldArray)
 }
 
 void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
-                          btPersistentManifold* primary, SolverPair& pair, const SolverCandidates& candidates) {
+                          btPersistentManifold* primary, SolverPair& pair, const SolverCandidates& candidates,
+                          const SolverFriction& friction) {
   const std::vector<ContactCandidate>& points = candidates.points;
   const ReducedContacts reduced = reduceContacts(points, ContactReductionSettings{}, pair.previous);
   pair.previous = reduced.selectedPoints(points);
@@ -251,10 +252,10 @@ void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisi
   Material material = combinedMaterial(a, b);
   // The world's friction settings hold in this mode too: without friction no friction rows (nor rolling or
   // spinning ones); a fixed coefficient replaces the bodies' combined one.
-  if (!m_settings.penalty.enableFriction) {
+  if (!friction.enabled) {
     material.friction = material.rolling = material.spinning = 0;
-  } else if (!m_settings.penalty.frictionFromBodies) {
-    material.friction = btScalar(m_settings.penalty.friction);
+  } else if (!friction.fromBodies) {
+    material.friction = btScalar(friction.coefficient);
   }
   for (int c = 0; c < reduced.clusterCount; ++c) {
     btPersistentManifold* m = slots[static_cast<std::size_t>(slotOf[static_cast<std::size_t>(c)])];

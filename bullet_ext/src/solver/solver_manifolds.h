@@ -25,10 +25,19 @@ struct SolverCandidates {
   double margin = 0.0;           // the pair's largest speculative margin (m)
 };
 
+/// The world's friction as the solver's rows get it: off (no friction, rolling or spinning rows), the bodies'
+/// combined coefficient, or one coefficient for every pair.
+struct SolverFriction {
+  bool enabled = true;
+  bool fromBodies = true;
+  double coefficient = 0.5;  // when not from the bodies
+};
+
 /// Reduces the candidates and writes each cluster into one of the pair's manifolds (`primary`, the algorithm's own,
 /// or the pair's extra ones). `wrapA` holds the manifold's body 0.
 void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
-                          btPersistentManifold* primary, SolverPair& pair, const SolverCandidates& candidates);
+                          btPersistentManifold* primary, SolverPair& pair, const SolverCandidates& candidates,
+                          const SolverFriction& friction);
 
 /// A new solver pair for an algorithm whose own manifold is `primary`.
 SolverPair* createSolverPair(btDispatcher* dispatcher, const btPersistentManifold* primary);

@@ -104,8 +104,10 @@ void SolverResponder::applyPlanned(const RoleResult& result) {
 
 void SolverResponder::endPair() {
   const PairCall& call = *m_call;
+  const PenaltySettings& penalty = m_data.settings.penalty;
+  const SolverFriction friction{penalty.enableFriction, penalty.frictionFromBodies, penalty.friction};
   writeSolverManifolds(call.swapped ? call.wrap1 : call.wrap0, call.swapped ? call.wrap0 : call.wrap1, call.manifold,
-                       *call.solverPair, m_candidates);
+                       *call.solverPair, m_candidates, friction);
 }
 
 #define SDFCCD_SOLVER_RESPONSE(Field) template void SolverResponder::visitField<Field>(const Role&, const Field&, double);

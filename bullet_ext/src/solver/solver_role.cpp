@@ -177,11 +177,11 @@ void computeSolverRole(const PointTree& tree, const Field& field, const SolverRo
       // body over an edge of the field's gives the face's normal.
       const Vec3 at = c.state == SegmentState::Hit ? Vec3(p0 + c.fraction * (p1 - p0)) : p0;
       const Vec3 gradientUnit = normalInSdf / length;
-      const double w = shellNormalWeight(fieldCurvature(field, at, gradientUnit, in.cellSize),
-                                         tree.curvature(c.point), in.cellSize);
+      const Vec3 shellNormalInSdf =
+          in.sdfFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
+      const double w =
+          shellNormalWeightAt(field, at, gradientUnit, shellNormalInSdf, tree.curvature(c.point), in.cellSize);
       if (w > 0.0) {
-        const Vec3 shellNormalInSdf =
-            in.sdfFromShellStart.linear() * shellPoints.normals[static_cast<std::size_t>(c.point)];
         normalInSdf = arbitratedNormal(gradientUnit, shellNormalInSdf, w);
         length = 1.0;
         if (c.state == SegmentState::Hit) distance = normalInSdf.dot(p0 - at) + margin;

@@ -625,8 +625,9 @@ PenaltyResult integratePenaltyImpl(const std::vector<Vec3>& pointsInShell, const
       const Vec3 gradient = field.gradient(at);
       const double length = gradient.norm();
       if (length > 0.0 && gradient.allFinite()) {
-        path.shellWeight = shellNormalWeight(fieldCurvature(field, at, Vec3(gradient / length), input.cellSize),
-                                             (*input.curvatures)[index], input.cellSize);
+        const Vec3 shellNormalInSdf = frames.sdfFromWorldStart.linear() * path.normalInWorld.start;
+        path.shellWeight = shellNormalWeightAt(field, at, Vec3(gradient / length), shellNormalInSdf,
+                                               (*input.curvatures)[index], input.cellSize);
       }
     }
     if (anchored) {

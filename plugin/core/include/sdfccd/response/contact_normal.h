@@ -15,7 +15,10 @@
 /// - the shell's, from the point's outward normal and those of its neighbours on the shell (shellCurvatures:
 ///   zero inside a face, large at an edge's or a corner's averaged normals).
 /// The shell's own normal (turned to point out of the field body) gets the weight
-///   w = max(0, k_field - k_shell - k_floor) / (k_field + k_floor),
+///   w = f max(0, k_field - k_shell - k_floor) / (k_field + k_floor),
+/// where f is 1 when the turned normal lies within 60 degrees of the field's gradient and fades to 0 by 75: the
+/// face of a box resting on another box's edge faces that edge, the side face of a box standing on another's top
+/// face, flush with its side, does not (its normal there would push the stack sideways),
 /// and the contact normal is normalize((1 - w) g - w m) for the field's unit gradient g and the shell's unit
 /// normal m. A face on an edge takes the face's normal from whichever role sees it (w near 1 where the field has
 /// the edge, 0 where the shell has it). Where neither surface is clearly the flatter (two faces, two edges, two
@@ -76,14 +79,32 @@ double fieldCurvature(const Field& field, const Vec3& pointInSdf, const Vec3& un
   }
 }
 
-/// The weight of the shell's own normal in the contact normal (see the file comment), in [0, 1].
-/// `step`: the length both curvatures were measured over (the field's cell), for the flatness floor.
-inline double shellNormalWeight(double fieldCurvatureValue, double shellCurvatureValue, double step) {
+/// cos 75 and cos 60 degrees: the shell's normal (turned) takes over only where it is within 60 degrees of the
+/// field's gradient (fully), fading out by 75 (a face beside an edge that it does not face keeps the gradient).
+inline constexpr double kFacingCosineLow = 0.25881904510252074;
+inline constexpr double kFacingCosineHigh = 0.5;
+
+/// The weight of the shell's own normal in the contact normal (see the file comment), in [0, 1], from both
+/// surfaces' curvatures (rad per model unit) measured over `step` (the field's cell), and from how far the turned
+/// shell normal -m lies from the field's unit gradient g: `facing` = g . (-m).
+inline double shellNormalWeight(double fieldCurvatureValue, double shellCurvatureValue, double facing, double step) {
   if (!(fieldCurvatureValue > 0.0) || !(step > 0.0)) return 0.0;
   const double floor = kCurvatureFloorPerStep / step;
   const double excess = fieldCurvatureValue - std::max(0.0, shellCurvatureValue) - floor;
   if (!(excess > 0.0)) return 0.0;
-  return std::min(1.0, excess / (fieldCurvatureValue + floor));
+  const double faces = std::clamp((facing - kFacingCosineLow) / (kFacingCosineHigh - kFacingCosineLow), 0.0, 1.0);
+  return faces * std::min(1.0, excess / (fieldCurvatureValue + floor));
+}
+
+/// The weight of the shell's normal for a contact at `pointInSdf` (field frame): `unitGradient`, the field's unit
+/// gradient there; `unitShellNormalInSdf`, the shell point's outward normal turned into the field's frame;
+/// `shellCurvatureValue`, the shell's curvature at the point; `step`, the field's cell.
+template <class Field>
+double shellNormalWeightAt(const Field& field, const Vec3& pointInSdf, const Vec3& unitGradient,
+                           const Vec3& unitShellNormalInSdf, double shellCurvatureValue, double step) {
+  const double facing = -unitGradient.dot(unitShellNormalInSdf);
+  if (!(facing > kFacingCosineLow)) return 0.0;
+  return shellNormalWeight(fieldCurvature(field, pointInSdf, unitGradient, step), shellCurvatureValue, facing, step);
 }
 
 /// normalize((1 - w) g - w m) for unit vectors g (the field's gradient) and m (the shell's outward normal); g when
