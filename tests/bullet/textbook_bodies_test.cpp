@@ -270,6 +270,50 @@ INSTANTIATE_TEST_SUITE_P(Supports, SolverBounce,
                            return p.param.body + "On" + p.param.support;
                          });
 
+// --- Twisting: a cube spinning on its face slows at 6 (0.3826) mu g / a (Coulomb over a uniformly pressed square) ---
+
+TEST(SolverBodies, SpinningCubeSlowsAtCoulombsTwistingFriction) {
+  constexpr double mu = 0.5, side = 2 * kHalf, spin = 20.0;
+  // The mean distance of a square's points from its centre, (sqrt 2 + asinh 1) / 6 of its side.
+  const double meanRadius = (std::sqrt(2.0) + std::asinh(1.0)) / 6.0 * side;
+  const double expected = mu * kG * meanRadius / (side * side / 6.0);  // torque / inertia: 112.6 rad/s^2
+  for (const std::string support : {"ground", "table"}) {
+    SceneSpec spec;
+    double base = 0.0;
+    if (support == "table") {
+      spec.bodies.push_back(table());
+      base = kTableTop;
+    } else {
+      spec.effects.push_back("ground");
+    }
+    Body box;
+    box.friction = mu;
+    box.position = vec(0, base + kHalf + 1e-4, 0);
+    spec.bodies.push_back(box);
+    // The spin: the scene's angular velocity key, added to the body's JSON.
+    std::string text = spec.text();
+    const std::string velocityKey = "\"velocity\": " + vec(0, 0, 0) + "}]";
+    const auto at = text.rfind(velocityKey);
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, velocityKey.size(), velocityKey.substr(0, velocityKey.size() - 2) + ", \"angular_velocity\": " +
+                                             vec(0, spin, 0) + "}]");
+    SceneWorldSettings settings;
+    settings.cacheDir = "textbook-model-cache";
+    SceneWorld world(test::sceneFromText(text), settings);
+    const int index = world.bodyCount() - 1;
+    std::vector<double> times, spins;
+    while (world.time() < 0.12 - 1e-9) {
+      world.step();
+      times.push_back(world.time());
+      spins.push_back(world.bodyState(index).angularVelocity.y());
+    }
+    // Between 0.02 s (landed) and 0.12 s (still spinning at about 9 rad/s).
+    const std::size_t a = 4;
+    const double deceleration = (spins[a] - spins.back()) / (times.back() - times[a]);
+    EXPECT_NEAR(deceleration, expected, 0.1 * expected) << support;
+  }
+}
+
 // --- The scene's friction keys and effects hold in solver mode ------------------------------------------------
 
 /// A box on the table tilted by `degrees` (gravity turned instead): its acceleration down the slope over 0.5 s.

@@ -26,9 +26,11 @@
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "common/bullet_conversions.h"
 
@@ -94,8 +96,8 @@ btManifoldPoint makePoint(const ContactCandidate& c, double distance, const btCo
 /// Writes one cluster into `manifold` (see the file comment for the matching rules).
 void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
                   const std::vector<ContactCandidate>& candidates, const std::vector<double>& distances,
-                  const std::vector<double>& bounce, const btCollisionObjectWrapper* wrapA,
-                  const btCollisionObjectWrapper* wrapB, const Material& material) {
+                  const std::vector<double>& bounce, const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
+                  const Material& material) {
   const btCollisionObject* a = wrapA->getCollisionObject();
   const btCollisionObject* b = wrapB->getCollisionObject();
   const bool wasEmpty = manifold->getNumContacts() == 0;
@@ -153,6 +155,83 @@ void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
   }
 }
 
+/// The angular velocity of `a` relative to `b` (rad/s, world); a collision object without a rigid body is still.
+Vec3 relativeSpin(const btCollisionObject* a, const btCollisionObject* b) {
+  const btRigidBody* ra = btRigidBody::upcast(a);
+  const btRigidBody* rb = btRigidBody::upcast(b);
+  const Vec3 wa = ra != nullptr ? toVec3(ra->getAngularVelocity()) : Vec3::Zero();
+  const Vec3 wb = rb != nullptr ? toVec3(rb->getAngularVelocity()) : Vec3::Zero();
+  return wa - wb;
+}
+
+/// A face's contact written as two point sets, so that its friction twists as a pressed patch does.
+/// The reduction keeps a patch's outermost points (its corners) so that the normal rows hold the body up to the
+/// patch's edge; friction rows at those corners resist a spin with the corners' lever arm (0.707 a on an a x a
+/// face) instead of the patch's mean one (0.383 a: Coulomb friction over a uniformly pressed square), about
+/// twice the twisting friction. So a patch whose corners lie well beyond its mean radius becomes
+/// - the corners, a hair (kSupportSlack of their radius) farther than their gap: they carry load only once the
+///   body tips toward them (a box on a steep incline, a rocking block), and hold it up to the patch's edge;
+/// - the same points drawn in toward the patch's centroid to its mean radius (ContactCluster::spread): they carry
+///   the resting load, and with it the friction (a point's friction is limited by mu times its own load), and
+///   twist with the patch's lever arm.
+/// The drawn-in points are new manifold points (their ids have kTwistIdBit set), in a manifold of their own. The
+/// split is made while the patch twists (its mean radius slips faster than kTwistSlipSpeed about its normal); a
+/// patch at rest keeps its corners alone, whose static friction then holds a twisting torque up to the corners'
+/// lever arm.
+struct SplitContacts {
+  static constexpr double kSupportSlack = 1e-3;         // of the corners' mean radius
+  static constexpr double kWorthSplitting = 0.9;        // split when spread < this share of the corners' radius
+  static constexpr int kTwistIdBit = 1 << 29;           // shell point ids are below it (PointTree's bound: 2^30)
+  static constexpr double kTwistSlipSpeed = 5e-3;       // m/s: the patch twists (its mean radius slips this fast)
+
+  std::vector<ContactCandidate> points;
+  std::vector<double> distance;
+  std::vector<double> bounce;
+
+  explicit SplitContacts(const SolverCandidates& c) : points(c.points), distance(c.distance), bounce(c.bounce) {}
+
+  /// `spin`: the bodies' relative angular velocity (rad/s, world).
+  void separateTwistingFriction(ReducedContacts& reduced, const Vec3& spin) {
+    const int original = reduced.clusterCount;
+    for (int k = 0; k < original && reduced.clusterCount < kMaxContactClusters; ++k) {
+      ContactCluster& cluster = reduced.clusters[static_cast<std::size_t>(k)];
+      if (cluster.selectedCount < 3 || cluster.memberCount <= cluster.selectedCount) continue;
+      double cornerRadius = 0.0;
+      for (int j = 0; j < cluster.selectedCount; ++j) {
+        cornerRadius += inPlane(cluster, points[selectedAt(cluster, j)].position).norm();
+      }
+      cornerRadius /= cluster.selectedCount;
+      if (!(cornerRadius > 0.0) || !(cluster.spread < kWorthSplitting * cornerRadius)) continue;
+      if (!(std::abs(spin.dot(cluster.normal)) * cluster.spread > kTwistSlipSpeed)) continue;
+      const double scale = cluster.spread / cornerRadius;
+      ContactCluster& twist = reduced.clusters[static_cast<std::size_t>(reduced.clusterCount++)];
+      twist = cluster;
+      for (int j = 0; j < cluster.selectedCount; ++j) {
+        const std::size_t corner = selectedAt(cluster, j);
+        ContactCandidate drawnIn = points[corner];
+        drawnIn.position -= (1.0 - scale) * inPlane(cluster, drawnIn.position);
+        const int role = drawnIn.point & 1;
+        drawnIn.point = 2 * ((drawnIn.point >> 1) | kTwistIdBit) + role;
+        twist.selected[static_cast<std::size_t>(j)] = static_cast<int>(points.size());
+        points.push_back(drawnIn);
+        distance.push_back(distance[corner]);
+        bounce.push_back(bounce[corner]);
+        distance[corner] += kSupportSlack * cornerRadius;
+      }
+    }
+  }
+
+ private:
+  static std::size_t selectedAt(const ContactCluster& cluster, int j) {
+    return static_cast<std::size_t>(cluster.selected[static_cast<std::size_t>(j)]);
+  }
+  /// The offset of `position` from the cluster's centroid, in the cluster's plane.
+  static Vec3 inPlane(const ContactCluster& cluster, const Vec3& position) {
+    const Vec3 offset = position - cluster.centroid;
+    return offset - offset.dot(cluster.normal) * cluster.normal;
+  }
+};
+
 void removeAllPoints(btPersistentManifold* manifold) {
   for (int i = manifold->getNumContacts() - 1; i >= 0; --i) manifold->removeContactPoint(i);
 }
@@ -184,9 +263,11 @@ void solverPairManifolds(const SolverPair* pair, btManifoldArray& manifoldArray)
 void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
                           btPersistentManifold* primary, SolverPair& pair, const SolverCandidates& candidates,
                           const SolverFriction& friction) {
-  const std::vector<ContactCandidate>& points = candidates.points;
-  const ReducedContacts reduced = reduceContacts(points, ContactReductionSettings{}, pair.previous);
-  pair.previous = reduced.selectedPoints(points);
+  ReducedContacts reduced = reduceContacts(candidates.points, ContactReductionSettings{}, pair.previous);
+  pair.previous = reduced.selectedPoints(candidates.points);
+  SplitContacts split(candidates);
+  split.separateTwistingFriction(reduced, relativeSpin(wrapA->getCollisionObject(), wrapB->getCollisionObject()));
+  const std::vector<ContactCandidate>& points = split.points;
   const btCollisionObject* a = wrapA->getCollisionObject();
   const btCollisionObject* b = wrapB->getCollisionObject();
 
@@ -246,7 +327,7 @@ void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisi
 
   // Thresholds: Bullet's processing threshold; a breaking threshold above every speculative distance.
   double largest = 0.0;
-  for (double d : candidates.distance) largest = std::max(largest, d);
+  for (double d : split.distance) largest = std::max(largest, d);
   const btScalar breaking = btScalar(std::max(pair.bulletBreakingThreshold, largest + 2.0 * candidates.margin));
   const btScalar processing = std::min(a->getContactProcessingThreshold(), b->getContactProcessingThreshold());
   Material material = combinedMaterial(a, b);
@@ -261,8 +342,8 @@ void writeSolverManifolds(const btCollisionObjectWrapper* wrapA, const btCollisi
     btPersistentManifold* m = slots[static_cast<std::size_t>(slotOf[static_cast<std::size_t>(c)])];
     m->setContactBreakingThreshold(breaking);
     m->setContactProcessingThreshold(processing);
-    writeCluster(m, reduced.clusters[static_cast<std::size_t>(c)], points, candidates.distance, candidates.bounce, wrapA,
-                 wrapB, material);
+    writeCluster(m, reduced.clusters[static_cast<std::size_t>(c)], points, split.distance, split.bounce, wrapA, wrapB,
+                 material);
   }
   // Manifolds without a cluster: emptied (the ended callback fires), the extra ones released.
   for (int s = 0; s < kMaxContactClusters; ++s) {

@@ -152,6 +152,22 @@ Vec3 meanNormal(const std::vector<ContactCandidate>& candidates, const std::vect
                                                  : fallback;  // opposed normals cancel: keep the seed's
 }
 
+/// The members' centroid and their mean distance from it in the cluster's plane (ContactCluster::spread).
+void setSpread(const std::vector<ContactCandidate>& candidates, const std::vector<int>& members,
+               ContactCluster& cluster) {
+  if (members.empty()) return;
+  Vec3 centroid = Vec3::Zero();
+  for (int m : members) centroid += candidates[m].position;
+  centroid /= double(members.size());
+  double sum = 0.0;
+  for (int m : members) {
+    const Vec3 offset = candidates[m].position - centroid;
+    sum += (offset - offset.dot(cluster.normal) * cluster.normal).norm();
+  }
+  cluster.centroid = centroid;
+  cluster.spread = sum / double(members.size());
+}
+
 }  // namespace
 
 void ContactReductionSettings::validate() const {
@@ -237,6 +253,7 @@ ReducedContacts reduceContacts(const std::vector<ContactCandidate>& candidates,
       return a.distance != b.distance ? a.distance < b.distance : a.point < b.point;
     });
     out.clusters[k].normal = meanNormal(candidates, members[k], seedNormal[k]);
+    setSpread(candidates, members[k], out.clusters[k]);
     selectPoints(candidates, members[k], previous, settings.hysteresis, out.clusters[k]);
   }
   return out;

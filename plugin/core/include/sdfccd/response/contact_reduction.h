@@ -63,6 +63,10 @@ struct ContactCluster {
   int memberCount = 0;                               ///< candidates in the cluster (before selection)
   int selectedCount = 0;                             ///< 0..kMaxPointsPerCluster
   std::array<int, kMaxPointsPerCluster> selected{};  ///< indices into the candidates, in the order (a)..(d)
+  Vec3 centroid = Vec3::Zero();                      ///< mean position of the members
+  /// Mean distance of the members from their centroid in the plane normal to `normal`: the lever arm of a
+  /// uniformly pressed patch's twisting friction (0.383 a for an a x a square, 2 R / 3 for a disc of radius R).
+  double spread = 0.0;
 };
 
 /// The reduced contacts of one pair.
