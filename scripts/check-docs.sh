@@ -5,8 +5,10 @@
 # - README.md has 200 lines or more;
 # - a comment in a source, script or CMake file under plugin/, bullet_ext/, haptics/, demos/ or tests/ (*.h, *.hpp,
 #   *.cpp, *.cc, *.sh, CMakeLists.txt, *.cmake), or any line of README.md, names an issue or a session by number
-#   ("issue 12", "Issue #12", "issues 16-17", "session 3"; any case).
-# CHANGELOG.md and docs/ may cite history and are not checked. Only grep and wc, so it is cheap.
+#   ("issue 12", "Issue #12", "issues 16-17", "session 3"; any case);
+# - README.md's first ```cpp block is not, line for line, demos/examples/drop_bunny.cpp (the install test builds and
+#   runs that file against the installed package, so the README's example compiles and runs).
+# CHANGELOG.md and docs/ may cite history and are not checked. Only grep, wc, awk and cmp, so it is cheap.
 # Usage: bash scripts/check-docs.sh [--comments-only]   (--comments-only: skip the README's checks)
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -22,6 +24,7 @@ case "${1:-}" in
 esac
 
 max_readme_lines=199
+example=demos/examples/drop_bunny.cpp  # the README's ```cpp block, line for line
 # An issue or a session named by number: "issue 12", "Issue #12", "issue-13", "issues 16-17", "session 3".
 reference='\b(issue|session)s?[[:space:]]*[#-]?[[:space:]]*[0-9]+'
 # Where a comment holds it: after "//" or "/*", or on a block comment's continuation line (" * ..."), in C++;
@@ -59,6 +62,10 @@ if [ "$readme" = 1 ]; then
     while IFS= read -r hit; do
       report "README.md:$hit" "issue or session reference"
     done < <(grep -nEi -- "$reference" README.md)
+    if ! awk '/^```cpp$/ { inside = 1; next } inside && /^```$/ { exit } inside' README.md | cmp -s - "$example"; then
+      echo "check-docs: README.md: its \`\`\`cpp block differs from $example (the README's example is that file)" >&2
+      problems=$((problems + 1))
+    fi
   fi
 fi
 

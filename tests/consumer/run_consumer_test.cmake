@@ -1,7 +1,8 @@
 # Installs the build tree into WORK_DIR/prefix, then configures, builds and runs two projects against that
 # prefix alone: the consumer (every exported target; a Bullet world) and demos/examples (hello_world, whose
-# report of contacts and of the bunnies not falling through the cylinder and the ramp is checked). Inputs: BUILD_DIR, SOURCE_DIR (tests/consumer), EXAMPLES_DIR, ASSETS_DIR,
-# WORK_DIR.
+# report of contacts and of the bunnies not falling through the cylinder and the ramp is checked, and drop_bunny,
+# the README's example, run from the repository root as the README says). Inputs: BUILD_DIR, SOURCE_DIR
+# (tests/consumer), EXAMPLES_DIR, ASSETS_DIR, WORK_DIR.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix
                 RESULT_VARIABLE rc OUTPUT_QUIET)
@@ -48,3 +49,16 @@ foreach(expected "bunny-1 touched ground" "bunny-1 touched bunny-2" "box touched
     message(FATAL_ERROR "hello_world did not report \"${expected}\"")
   endif()
 endforeach()
+
+# The README's example: it reads assets/meshes/bunny.off relative to the repository root and prints where the bunny
+# rests.
+get_filename_component(repository_root ${ASSETS_DIR} DIRECTORY)
+execute_process(COMMAND ${WORK_DIR}/examples/drop_bunny WORKING_DIRECTORY ${repository_root} RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out)
+message("${out}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "drop_bunny failed (${rc})")
+endif()
+if(NOT out MATCHES "the bunny rests at y = [0-9.]+ m")
+  message(FATAL_ERROR "drop_bunny did not report where the bunny rests")
+endif()
