@@ -93,6 +93,17 @@ struct SceneSpec {
   }
 };
 
+/// Puts the support under the scene's bodies: "table" (a static box) or "ground" (the analytic plane). Returns the
+/// height of its top face.
+double addSupport(SceneSpec& spec, const std::string& support) {
+  if (support == "table") {
+    spec.bodies.push_back(table());
+    return kTableTop;
+  }
+  spec.effects.push_back("ground");
+  return 0.0;
+}
+
 std::unique_ptr<SceneWorld> makeWorld(const SceneSpec& spec) {
   SceneWorldSettings settings;
   settings.cacheDir = "textbook-model-cache";
@@ -138,13 +149,7 @@ TEST_P(SolverSlide, BoxStopsAtTheCoulombDistanceWithoutBeingTripped) {
   const SlideCase c = GetParam();
   constexpr double v0 = 2.0, mu = 0.5;
   SceneSpec spec;
-  double base = 0.0;
-  if (c.support == "table") {
-    spec.bodies.push_back(table());
-    base = kTableTop;
-  } else {
-    spec.effects.push_back("ground");
-  }
+  const double base = addSupport(spec, c.support);
   Body box;
   box.friction = mu;  // the table's and the ground's 1: the pair's mu is the box's
   const double x0 = -0.6 + c.offset * kTableSpacing;
@@ -223,13 +228,7 @@ class SolverBounce : public ::testing::TestWithParam<BounceCase> {};
 
 SceneSpec bounceScene(const BounceCase& c, double e, double h, double& rest) {
   SceneSpec spec;
-  double base = 0.0;
-  if (c.support == "table") {
-    spec.bodies.push_back(table());
-    base = kTableTop;
-  } else {
-    spec.effects.push_back("ground");
-  }
+  const double base = addSupport(spec, c.support);
   Body b = c.body == "box" ? Body{} : sphere(kHalf);
   b.restitution = e;
   rest = base + kHalf;
@@ -279,13 +278,7 @@ TEST(SolverBodies, SpinningCubeSlowsAtCoulombsTwistingFriction) {
   const double expected = mu * kG * meanRadius / (side * side / 6.0);  // torque / inertia: 112.6 rad/s^2
   for (const std::string support : {"ground", "table"}) {
     SceneSpec spec;
-    double base = 0.0;
-    if (support == "table") {
-      spec.bodies.push_back(table());
-      base = kTableTop;
-    } else {
-      spec.effects.push_back("ground");
-    }
+    const double base = addSupport(spec, support);
     Body box;
     box.friction = mu;
     box.position = vec(0, base + kHalf + 1e-4, 0);
