@@ -12,7 +12,7 @@
 namespace sdfccd::bullet::detail {
 
 void ContactLoads::applyContactMass(BodyStep& step, double timeStep, const StabilityCapSettings& caps) const {
-  // Contact mass scaling (per-area law; README "Contact response"): a body whose contacts' stiffness or damping,
+  // Contact mass scaling (per-area law; docs/design/contact-response.md): a body whose contacts' stiffness or damping,
   // summed over all its pairs, exceed what an explicit step carries with its mass m (omega dt <= Omega_max,
   // C dt / m <= maxDampingDt, the caps of contact_material.h taken per body) moves, while in contact, as if it had
   // the mass m_c that brings it back within them: its penalty impulses J and its external forces F act as

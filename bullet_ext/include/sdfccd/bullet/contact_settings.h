@@ -28,7 +28,7 @@ inline constexpr int kMaxNarrowphaseThreads = 1024;
 struct ContactSettings {
   /// Penalty (the paper's model) or Solver (speculative manifold points answered by Bullet's solver; see
   /// bullet_ext/src/solver/solver_role.cpp). Solver by default: on the 20-bunny drop it has the larger stable step
-  /// at a lower cost (`sdfccd bench bullet --part modes,stable`, README "Contact response").
+  /// at a lower cost (`sdfccd bench bullet --part modes,stable`, docs/benchmarks.md).
   SdfccdContactMode mode = SdfccdContactMode::Solver;
   /// Solver mode: CCD level set and speculative reach, in cells of the field, capped at maxSpeculativeMargin.
   double speculativeMarginCells = 0.5;

@@ -1,6 +1,6 @@
 /// @file
-/// @brief The constraint solver for a Bullet world whose SdfccdShapes run in solver mode (README
-/// "Contact response: two modes").
+/// @brief The constraint solver for a Bullet world whose SdfccdShapes run in solver mode (docs/bullet.md,
+/// "Which constraint solver, and why").
 ///
 /// @details Solver mode hands the CCD's contacts to Bullet's constraint solver as manifold points. Bullet's
 /// default btSequentialImpulseConstraintSolver (Gauss-Seidel, 10 iterations) does not converge on a stack of ten
