@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The test command (README): installs dependencies, builds (Release) and runs every test suite; a clang
-# -fsyntax-only pass over each library file alone, run on the cores the tests leave idle, fails a file that compiles
-# only beside its neighbours (the builds batch their files: unity builds).
-# CI (.ci/run) runs the test command, then this script's `sanitizers` stages: the core and its tests rebuilt with
+# The test command (README, docs/testing.md): installs dependencies, checks the docs' rules, builds (Release) and runs
+# every test suite.
+# CI (.ci/run) runs the test command, then this script's `sanitizers` stages: each library file compiled alone (clang
+# -fsyntax-only: the builds batch their files in unity builds), the core and its tests rebuilt with
 # AddressSanitizer + UndefinedBehaviorSanitizer and run again but the long tests, the suites whose tests start
 # threads under ThreadSanitizer, and the field, shell, scene, segment-file and haptic-scene readers fuzzed briefly
 # (libFuzzer, clang). Every tree is a preset of CMakePresets.json (release, syntax-check, asan-ubsan, tsan, fuzz),
@@ -105,26 +105,17 @@ fi
 
 # Each library file compiled alone (the syntax-check preset: clang -fsyntax-only, one file per unit as a build
 # without unity batches has them): every build of this command batches the files (unity builds), and a file that
-# compiles only beside its neighbours (a missing #include, a helper of another file) must still fail the command. It
-# runs in the background at the idle scheduling class (chrt --idle: only on a core the others leave idle: the
-# build's links and last units, ctest's tail) from the Release build on, and is waited for after the tests.
-alone_pid=
-start_standalone_check() {
+# compiles only beside its neighbours (a missing #include, a helper of another file) must still fail. A CI stage
+# (the first of `sanitizers`): it costs the test command's 2 cores minutes that a user's check after a change does
+# not need.
+standalone_check_stage() {
+  stage "each library file compiled alone (clang -fsyntax-only)"
   configure syntax-check build-alone
-  (
-    TIMEFORMAT='standalone check: wall %R s, CPU %U s user + %S s sys'
-    time chrt --idle 0 cmake --build --preset syntax-check -j"$jobs"
-  ) > build-alone/check.log 2>&1 &
-  alone_pid=$!
-}
-wait_standalone_check() {
-  stage "each library file compiled alone (clang -fsyntax-only; the rest of its run, after the overlap)"
-  if ! wait "$alone_pid"; then
+  if ! cmake --build --preset syntax-check -j"$jobs" > build-alone/check.log 2>&1; then
     grep -E -A5 'error|FAILED' build-alone/check.log | head -n 60 >&2
     echo "standalone check: a library file does not compile alone (build-alone/check.log)" >&2
     return 1
   fi
-  tail -n 1 build-alone/check.log >&2
 }
 
 release_stages() {
@@ -134,14 +125,13 @@ release_stages() {
   bash scripts/check-docs.sh
   stage "build (Release)"
   configure release build
-  start_standalone_check
   cmake --build --preset release -j"$jobs"
   stage "tests (Release)"
   ctest --preset release -j"$jobs"
-  wait_standalone_check
 }
 
 sanitizer_stages() {
+  standalone_check_stage
   stage "build (address,undefined sanitizers)"
   configure asan-ubsan build-asan
   cmake --build --preset asan-ubsan -j"$jobs"

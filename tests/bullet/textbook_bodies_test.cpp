@@ -307,6 +307,41 @@ TEST(SolverBodies, SpinningCubeSlowsAtCoulombsTwistingFriction) {
   }
 }
 
+// --- The default sphere rolls: launched rolling at 1 m/s it keeps its speed but for a rolling resistance < 0.004 ---
+
+TEST(SolverBodies, DefaultSphereRollsInBothModesOnTheGroundAndOnABox) {
+  constexpr double radius = 0.05, speed = 1.0;
+  for (const std::string mode : {"solver", "penalty"}) {
+    for (const std::string support : {"ground", "table"}) {
+      SceneSpec spec;
+      spec.mode = mode;
+      spec.step = mode == "solver" ? kSolverStep : 0.001;  // penalty mode's millisecond step
+      const double base = addSupport(spec, support);
+      Body ball = sphere(radius);  // the primitive's default subdivisions
+      ball.position = vec(-0.5, base + radius + 1e-4, 0);
+      ball.velocity = vec(speed, 0, 0);
+      spec.bodies.push_back(ball);
+      std::string text = spec.text();
+      const std::string velocityKey = "\"velocity\": " + vec(speed, 0, 0) + "}]";
+      const auto at = text.rfind(velocityKey);
+      ASSERT_NE(at, std::string::npos);
+      text.replace(at, velocityKey.size(), velocityKey.substr(0, velocityKey.size() - 2) +
+                                               ", \"angular_velocity\": " + vec(0, 0, -speed / radius) + "}]");
+      SceneWorldSettings settings;
+      settings.cacheDir = "textbook-model-cache";
+      SceneWorld world(test::sceneFromText(text), settings);
+      const Motion m = run(world, world.bodyCount() - 1, 1.0);
+      // A rolling sphere slows at (5/7) c g for a rolling resistance coefficient c.
+      const double coefficient = (m.vx.front() - m.vx.back()) / (m.time.back() - m.time.front()) * 7.0 / 5.0 / kG;
+      EXPECT_LT(coefficient, 0.004) << mode << " on the " << support;
+      EXPECT_GT(coefficient, -0.001) << mode << " on the " << support << ": it gained speed";
+      // Solver mode's rigid contact keeps the ball on the surface (penalty mode's point springs let a ball, whose
+      // few contact points make a soft contact, sink and bob by millimetres: not a rolling resistance).
+      if (mode == "solver") EXPECT_LT(m.maxUpSpeed, 0.05) << "on the " << support << ": it hopped";
+    }
+  }
+}
+
 // --- The scene's friction keys and effects hold in solver mode ------------------------------------------------
 
 /// A box on the table tilted by `degrees` (gravity turned instead): its acceleration down the slope over 0.5 s.

@@ -16,7 +16,7 @@ struct ScenePrimitive {
   Vec3 halfExtents = Vec3::Constant(0.5);  ///< box (model units)
   double radius = 0.5;                     ///< sphere, cylinder; the bowl's rim radius (model units)
   double height = 1.0;                     ///< cylinder; the bowl's height (model units)
-  int subdivisions = 3;                    ///< sphere
+  int subdivisions = 5;                    ///< sphere: 10,242 vertices, the shell; it rolls smoothly in both modes
 };
 
 /// The mesh of `primitive`, centred as procedural_meshes.h builds it; the bowl is the default lathed bowl scaled to
