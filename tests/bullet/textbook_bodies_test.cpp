@@ -269,6 +269,23 @@ INSTANTIATE_TEST_SUITE_P(Supports, SolverBounce,
                            return p.param.body + "On" + p.param.support;
                          });
 
+// Penalty mode: a ball hitting the ground faster than half a cell per step is stopped by the time-of-impact clamp,
+// whose impact rebounds with the pair's restitution.
+TEST(PenaltyBodies, ClampedBallReboundsToESquaredH) {
+  constexpr double h = 0.3;
+  for (const double e : {0.3, 0.6, 0.9}) {
+    double rest = 0.0;
+    SceneSpec spec = bounceScene(BounceCase{"ball", "ground"}, e, h, rest);
+    spec.mode = "penalty";
+    spec.step = 0.001;
+    auto world = makeWorld(spec);
+    const Motion m = run(*world, world->bodyCount() - 1, 0.8);
+    const std::vector<double> apex = apexRatios(m, rest, h);
+    ASSERT_FALSE(apex.empty()) << "e " << e << ": no rebound";
+    EXPECT_NEAR(apex[0], e * e, 0.1 * e * e) << "e " << e;
+  }
+}
+
 // --- Twisting: a cube spinning on its face slows at 6 (0.3826) mu g / a (Coulomb over a uniformly pressed square) ---
 
 TEST(SolverBodies, SpinningCubeSlowsAtCoulombsTwistingFriction) {

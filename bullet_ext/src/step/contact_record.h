@@ -31,7 +31,7 @@ struct ContactRecord {
   std::vector<ClampPoint> clampPoints;  // the deep-entering points, earliest first (at most kMaxClampPoints)
 };
 
-constexpr std::size_t kMaxClampPoints = 32;   // inelastic impact points per record
+constexpr std::size_t kMaxClampPoints = 32;   // impact points per record
 constexpr int kImpactIterations = 8;          // sequential-impulse sweeps over them
 constexpr double kConvexPointsAcross = 16.0;  // convex shapes: at least this many points across their thinnest size
 

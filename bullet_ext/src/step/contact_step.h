@@ -63,7 +63,7 @@ class ContactStep : public btActionInterface {
   int lastClamps() const { return m_lastClamps; }
 
  private:
-  /// The clamps, the inelastic impacts and the kinematic pushes of the step's records (step_response.cpp).
+  /// The clamps, the impacts and the kinematic pushes of the step's records (step_response.cpp).
   void clampAndImpact();
   /// The NextStep penalty impulses and the step's contact report (step_response.cpp).
   void applyAndReport();

@@ -1,6 +1,7 @@
 /// @file
 /// @brief ContactStep's response, after integrateTransforms (Section 4.1 and 5; see contact_system.h): time-of-impact
-/// clamping, the inelastic impact at the clamped points, the penalty impulses and the step's contact report.
+/// clamping, the impact at the clamped points (the pair's restitution), the penalty impulses and the step's contact report.
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
@@ -73,7 +74,7 @@ void ContactStep::clampAndImpact() {
     ++m_lastClamps;
     ++stats.clamps;
   }
-  // 2. Inelastic impact at the entering points (core: resolveInelasticImpact), with a kinematic body's own
+  // 2. The impact at the entering points, with the pair's restitution (core: resolveImpact), a kinematic body's own
   //    velocity; then a dynamic body hit by a kinematic one follows what the kinematic advanced after the hit.
   for (const ContactRecord& r : records) {
     if (!r.clamp) continue;
@@ -82,7 +83,9 @@ void ContactStep::clampAndImpact() {
     std::vector<ImpactPoint> points;
     points.reserve(r.clampPoints.size());
     for (const ContactRecord::ClampPoint& p : r.clampPoints) points.push_back(ImpactPoint{p.point, p.normal});
-    resolveInelasticImpact(points, shell, field, kImpactIterations);
+    const double restitution =
+        double(gCalculateCombinedRestitutionCallback(bodies[r.shell].object, bodies[r.field].object));
+    resolveImpact(points, shell, field, restitution, kImpactIterations);
     setVelocities(bodies[r.shell], shell);
     setVelocities(bodies[r.field], field);
     if (r.action != ClampAction::KinematicPush || r.clampPoints.empty()) continue;

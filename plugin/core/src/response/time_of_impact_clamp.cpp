@@ -1,5 +1,5 @@
 /// @file
-/// @brief The time-of-impact clamp's policy and inelastic impact (see time_of_impact_clamp.h).
+/// @brief The time-of-impact clamp's policy and impact (see time_of_impact_clamp.h).
 #include "sdfccd/response/time_of_impact_clamp.h"
 
 #include <algorithm>
@@ -27,17 +27,26 @@ void applyImpulse(ImpactBody& b, const Vec3& point, const Vec3& impulse) {
 
 }  // namespace
 
-ImpactResult resolveInelasticImpact(const std::vector<ImpactPoint>& points, ImpactBody& shell, ImpactBody& field,
-                                    int iterations) {
+ImpactResult resolveImpact(const std::vector<ImpactPoint>& points, ImpactBody& shell, ImpactBody& field,
+                           double restitution, int iterations) {
   ImpactResult result;
   std::vector<double> accumulated(points.size(), 0.0);
+  // Each point leaves at e times the speed it approached with before the impact (0: it stops).
+  std::vector<double> leaving(points.size(), 0.0);
+  if (restitution > 0.0) {
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const Vec3& point = points[k].pointInWorld;
+      const double approach = (shell.pointVelocity(point) - field.pointVelocity(point)).dot(points[k].normalInWorld);
+      leaving[k] = restitution * std::max(0.0, -approach);
+    }
+  }
   for (int sweep = 0; sweep < iterations; ++sweep) {
     for (std::size_t k = 0; k < points.size(); ++k) {
       const Vec3& point = points[k].pointInWorld;
       const Vec3& normal = points[k].normalInWorld;
       const double denominator = denominatorTerm(shell, point, normal) + denominatorTerm(field, point, normal);
       if (!(denominator > 0.0)) continue;
-      const double approach = (shell.pointVelocity(point) - field.pointVelocity(point)).dot(normal);
+      const double approach = (shell.pointVelocity(point) - field.pointVelocity(point)).dot(normal) - leaving[k];
       const double next = std::max(0.0, accumulated[k] - approach / denominator);
       const Vec3 impulse = normal * (next - accumulated[k]);
       accumulated[k] = next;

@@ -1,7 +1,8 @@
 /// @file
-/// @brief The time-of-impact clamp's decisions and its inelastic impact, Bullet-free (beyond the paper;
+/// @brief The time-of-impact clamp's decisions and its impact, Bullet-free (beyond the paper;
 /// docs/design/contact-response.md, kinematic bodies): what a pair whose points entered too deep during a step
-/// does, and the sequential impulses that remove the approaching normal velocity at the entering points.
+/// does, and the sequential impulses that turn the entering points' approach into a rebound of the pair's
+/// restitution.
 ///
 /// @details Policy, decided here:
 /// - a pair of two bodies that may move back (dynamic, awake) is rewound to the earliest deep entry
@@ -58,11 +59,12 @@ struct ImpactResult {
   int activePoints = 0;                ///< points that ended with a positive accumulated impulse
 };
 
-/// Sequential impulses (`iterations` sweeps; accumulated impulse per point kept >= 0) that remove the
-/// approaching normal velocity of the shell's points relative to the field body's material points; updates
-/// the velocities of `shell` and `field` in place (bodies of inverse mass 0 keep theirs).
-ImpactResult resolveInelasticImpact(const std::vector<ImpactPoint>& points, ImpactBody& shell, ImpactBody& field,
-                                    int iterations = 8);
+/// Sequential impulses (`iterations` sweeps; accumulated impulse per point kept >= 0) after which each of the
+/// shell's points leaves the field body's material point at `restitution` times the normal speed it approached
+/// with (0: the approaching normal velocity is removed, a plastic impact); updates the velocities of `shell` and
+/// `field` in place (bodies of inverse mass 0 keep theirs).
+ImpactResult resolveImpact(const std::vector<ImpactPoint>& points, ImpactBody& shell, ImpactBody& field,
+                           double restitution = 0.0, int iterations = 8);
 
 /// How far (m, world) the dynamic body must move along `normalInWorld` (unit, pointing from the kinematic body
 /// to the dynamic one) to follow what the kinematic body advanced after the hit: ((1 - hitFraction) dt v_K . n) n
