@@ -15,11 +15,9 @@
 
 namespace sdfccd::render {
 
-namespace {
-
-constexpr int kMaxRenderSide = 8192;  // pixels, after supersampling (llvmpipe allows 16384; memory stays sane)
-
-/// A mesh converted to float arrays for glDrawArrays/glDrawElements, in body coordinates.
+namespace offscreen_detail {
+/// A mesh converted to float arrays for glDrawArrays/glDrawElements, in body coordinates (named, not file-local:
+/// OffscreenRenderer::Impl holds them).
 struct GpuMesh {
   std::weak_ptr<const TriangleMesh> owner;  // detects a freed mesh whose address is reused
   Shading shading = Shading::Smooth;
@@ -27,6 +25,12 @@ struct GpuMesh {
   std::vector<float> normals;     // 3 per vertex
   std::vector<unsigned> indices;  // smooth shading only
 };
+}  // namespace offscreen_detail
+using offscreen_detail::GpuMesh;
+
+namespace {
+
+constexpr int kMaxRenderSide = 8192;  // pixels, after supersampling (llvmpipe allows 16384; memory stays sane)
 
 GpuMesh convertMesh(const std::shared_ptr<const TriangleMesh>& mesh, Shading shading) {
   GpuMesh gpu;
