@@ -23,9 +23,9 @@ namespace {
 
 constexpr double kG = 9.81;
 constexpr double kSolverStep = 1.0 / 240.0;
-constexpr double kHalf = 0.05;             // the moving box: 10 cm
-constexpr double kTableTop = 0.1;          // the table: 2 m x 0.2 m x 1 m, top face at y = 0.1
-constexpr double kTableSpacing = 0.0125;   // its shell's point spacing: 1/16 of its 0.2 m side
+constexpr double kHalf = 0.05;            // the moving box: 10 cm
+constexpr double kTableTop = 0.1;         // the table: 2 m x 0.2 m x 1 m, top face at y = 0.1
+constexpr double kTableSpacing = 0.0125;  // its shell's point spacing: 1/16 of its 0.2 m side
 
 std::string vec(double x, double y, double z) {
   std::ostringstream s;
@@ -168,9 +168,8 @@ TEST_P(SolverSlide, BoxStopsAtTheCoulombDistanceWithoutBeingTripped) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Offsets, SolverSlide,
-                         ::testing::Values(SlideCase{"ground", 0.0}, SlideCase{"table", 0.0},
-                                           SlideCase{"table", 0.25}, SlideCase{"table", 0.5},
-                                           SlideCase{"table", 0.75}),
+                         ::testing::Values(SlideCase{"ground", 0.0}, SlideCase{"table", 0.0}, SlideCase{"table", 0.25},
+                                           SlideCase{"table", 0.5}, SlideCase{"table", 0.75}),
                          [](const ::testing::TestParamInfo<SlideCase>& p) {
                            return p.param.support + "Quarter" + std::to_string(int(p.param.offset * 4));
                          });
@@ -305,8 +304,8 @@ TEST(SolverBodies, SpinningCubeSlowsAtCoulombsTwistingFriction) {
     const std::string velocityKey = "\"velocity\": " + vec(0, 0, 0) + "}]";
     const auto at = text.rfind(velocityKey);
     ASSERT_NE(at, std::string::npos);
-    text.replace(at, velocityKey.size(), velocityKey.substr(0, velocityKey.size() - 2) + ", \"angular_velocity\": " +
-                                             vec(0, spin, 0) + "}]");
+    text.replace(at, velocityKey.size(),
+                 velocityKey.substr(0, velocityKey.size() - 2) + ", \"angular_velocity\": " + vec(0, spin, 0) + "}]");
     SceneWorldSettings settings;
     settings.cacheDir = "textbook-model-cache";
     SceneWorld world(test::sceneFromText(text), settings);
@@ -342,8 +341,9 @@ TEST(SolverBodies, DefaultSphereRollsInBothModesOnTheGroundAndOnABox) {
       const std::string velocityKey = "\"velocity\": " + vec(speed, 0, 0) + "}]";
       const auto at = text.rfind(velocityKey);
       ASSERT_NE(at, std::string::npos);
-      text.replace(at, velocityKey.size(), velocityKey.substr(0, velocityKey.size() - 2) +
-                                               ", \"angular_velocity\": " + vec(0, 0, -speed / radius) + "}]");
+      text.replace(at, velocityKey.size(),
+                   velocityKey.substr(0, velocityKey.size() - 2) +
+                       ", \"angular_velocity\": " + vec(0, 0, -speed / radius) + "}]");
       SceneWorldSettings settings;
       settings.cacheDir = "textbook-model-cache";
       SceneWorld world(test::sceneFromText(text), settings);
@@ -354,7 +354,9 @@ TEST(SolverBodies, DefaultSphereRollsInBothModesOnTheGroundAndOnABox) {
       EXPECT_GT(coefficient, -0.001) << mode << " on the " << support << ": it gained speed";
       // Solver mode's rigid contact keeps the ball on the surface (penalty mode's point springs let a ball, whose
       // few contact points make a soft contact, sink and bob by millimetres: not a rolling resistance).
-      if (mode == "solver") EXPECT_LT(m.maxUpSpeed, 0.05) << "on the " << support << ": it hopped";
+      if (mode == "solver") {
+        EXPECT_LT(m.maxUpSpeed, 0.05) << "on the " << support << ": it hopped";
+      }
     }
   }
 }

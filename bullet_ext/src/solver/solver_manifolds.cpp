@@ -96,8 +96,8 @@ btManifoldPoint makePoint(const ContactCandidate& c, double distance, const btCo
 /// Writes one cluster into `manifold` (see the file comment for the matching rules).
 void writeCluster(btPersistentManifold* manifold, const ContactCluster& cluster,
                   const std::vector<ContactCandidate>& candidates, const std::vector<double>& distances,
-                  const std::vector<double>& bounce, const btCollisionObjectWrapper* wrapA, const btCollisionObjectWrapper* wrapB,
-                  const Material& material) {
+                  const std::vector<double>& bounce, const btCollisionObjectWrapper* wrapA,
+                  const btCollisionObjectWrapper* wrapB, const Material& material) {
   const btCollisionObject* a = wrapA->getCollisionObject();
   const btCollisionObject* b = wrapB->getCollisionObject();
   const bool wasEmpty = manifold->getNumContacts() == 0;
@@ -179,10 +179,10 @@ Vec3 relativeSpin(const btCollisionObject* a, const btCollisionObject* b) {
 /// patch at rest keeps its corners alone, whose static friction then holds a twisting torque up to the corners'
 /// lever arm.
 struct SplitContacts {
-  static constexpr double kSupportSlack = 1e-3;         // of the corners' mean radius
-  static constexpr double kWorthSplitting = 0.9;        // split when spread < this share of the corners' radius
-  static constexpr int kTwistIdBit = 1 << 29;           // shell point ids are below it (PointTree's bound: 2^30)
-  static constexpr double kTwistSlipSpeed = 5e-3;       // m/s: the patch twists (its mean radius slips this fast)
+  static constexpr double kSupportSlack = 1e-3;    // of the corners' mean radius
+  static constexpr double kWorthSplitting = 0.9;   // split when spread < this share of the corners' radius
+  static constexpr int kTwistIdBit = 1 << 29;      // shell point ids are below it (PointTree's bound: 2^30)
+  static constexpr double kTwistSlipSpeed = 5e-3;  // m/s: the patch twists (its mean radius slips this fast)
 
   std::vector<ContactCandidate> points;
   std::vector<double> distance;

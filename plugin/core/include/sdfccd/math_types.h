@@ -29,6 +29,11 @@ struct Interval {
   double end = 0.0;    ///< fraction of the step where the interval ends (>= begin)
 };
 
+/// The angle between two unit vectors (rad), accurate near 0 and pi.
+inline double angleBetween(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
 /// Every one of the n values finite: Eigen's allFinite() (the same answer) in plain scalar code that inlines, where
 /// Eigen's is an out-of-line call, in the per-pair and per-sample checks of a pile's many contacts.
 inline bool finiteValues(const double* v, int n) {

@@ -192,6 +192,61 @@ double PointShell::totalArea() const {
   return sum;
 }
 
+namespace {
+
+/// The typical point spacing of a shell: from the mean area per point when known, else from its bounding box's
+/// surface.
+double typicalPointSpacing(const PointShell& shell) {
+  if (shell.hasAreas()) {
+    const double perPoint = shell.totalArea() / double(shell.size());
+    if (perPoint > 0.0 && std::isfinite(perPoint)) return std::sqrt(perPoint);
+  }
+  Vec3 lo = shell.positions[0], hi = shell.positions[0];
+  for (const Vec3& p : shell.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 e = hi - lo;
+  const double boxArea = 2.0 * (e.x() * e.y() + e.y() * e.z() + e.z() * e.x());
+  return std::sqrt(std::max(boxArea, 1e-300) / double(shell.size()));
+}
+
+}  // namespace
+
+std::vector<double> shellCurvatures(const PointShell& shell) {
+  std::vector<double> curvature(shell.size(), 0.0);
+  if (shell.size() < 2) return curvature;
+  const double radius = 1.5 * typicalPointSpacing(shell);
+  if (!(radius > 0.0) || !std::isfinite(radius)) return curvature;
+  // Cells one radius wide: a point's neighbours lie in the 27 cells around its own.
+  CellHash hash(Vec3::Zero(), radius);
+  std::vector<std::pair<std::uint64_t, int>> entries;
+  entries.reserve(shell.size());
+  for (std::size_t i = 0; i < shell.size(); ++i) {
+    entries.emplace_back(CellHash::key(hash.cellOf(shell.positions[i])), static_cast<int>(i));
+  }
+  hash.build(entries);
+  const double radiusSquared = radius * radius;
+  for (std::size_t i = 0; i < shell.size(); ++i) {
+    const Vec3& p = shell.positions[i];
+    const Vec3i cell = hash.cellOf(p);
+    double largest = 0.0;
+    for (int z = cell.z() - 1; z <= cell.z() + 1; ++z) {
+      for (int y = cell.y() - 1; y <= cell.y() + 1; ++y) {
+        for (int x = cell.x() - 1; x <= cell.x() + 1; ++x) {
+          const CellHash::Run* run = hash.find(Vec3i(x, y, z));
+          if (!run) continue;
+          for (int n = run->begin; n < run->end; ++n) {
+            const std::size_t j = static_cast<std::size_t>(hash.ids()[n]);
+            const double squared = (shell.positions[j] - p).squaredNorm();
+            if (j == i || !(squared > 0.0) || squared > radiusSquared) continue;
+            largest = std::max(largest, angleBetween(shell.normals[i], shell.normals[j]) / std::sqrt(squared));
+          }
+        }
+      }
+    }
+    curvature[i] = largest;
+  }
+  return curvature;
+}
+
 void assignUniformAreas(PointShell& shell, double totalArea) {
   if (shell.empty()) throw Error("assignUniformAreas: the shell has no points");
   if (!(totalArea > 0.0) || !std::isfinite(totalArea)) {

@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "sdfccd/error.h"
-#include "sdfccd/response/contact_normal.h"
 
 namespace sdfccd {
 

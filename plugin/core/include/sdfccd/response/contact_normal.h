@@ -12,7 +12,8 @@
 /// curvature there is measured the same way, as the angle its normal turns per unit length:
 /// - the field's, from its gradient at the point and at points one step away along two tangent directions
 ///   (fieldCurvature: zero on a face, about (pi/4) / step beside an edge, 1/R on a sphere of radius R);
-/// - the shell's, from the point's outward normal and those of its neighbours on the shell (shellCurvatures:
+/// - the shell's, from the point's outward normal and those of its neighbours on the shell (shellCurvatures,
+///   point_shell.h:
 ///   zero inside a face, large at an edge's or a corner's averaged normals).
 /// The shell's own normal (turned to point out of the field body) gets the weight
 ///   w = f max(0, k_field - k_shell - k_floor) / (k_field + k_floor),
@@ -30,32 +31,14 @@
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
-#include <vector>
 
 #include "sdfccd/field/analytic_fields.h"
 #include "sdfccd/math_types.h"
-#include "sdfccd/shell/point_shell.h"
 
 namespace sdfccd {
 
 /// Below this turn per step (rad) a surface counts as flat.
 inline constexpr double kCurvatureFloorPerStep = 0.02;
-
-/// The curvature of `shell` at each point (rad per model unit): the largest angle between the point's normal and
-/// a neighbour's, over the neighbour's distance, among the neighbours within 1.5 point spacings (the spacing
-/// from the point's area when the shell has areas, else from its nearest neighbour). Points with no neighbour
-/// get 0. O(N) with a hash grid.
-std::vector<double> shellCurvatures(const PointShell& shell);
-
-/// Two unit vectors perpendicular to the unit vector `n` and to each other.
-inline void tangentBasis(const Vec3& n, Vec3& t1, Vec3& t2) {
-  const Vec3 helper = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
-  t1 = n.cross(helper).normalized();
-  t2 = n.cross(t1);
-}
-
-/// The angle between two unit vectors (rad), accurate near 0 and pi.
-inline double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 /// The curvature of `field`'s level set through `pointInSdf` (rad per model unit): the largest angle its
 /// gradient turns between the point and the four points `step` away along two tangent directions, over `step`.
@@ -66,8 +49,8 @@ double fieldCurvature(const Field& field, const Vec3& pointInSdf, const Vec3& un
     return 0.0;
   } else {
     if (!(step > 0.0)) return 0.0;
-    Vec3 t1, t2;
-    tangentBasis(unitGradient, t1, t2);
+    const Vec3 t1 = unitGradient.unitOrthogonal();
+    const Vec3 t2 = unitGradient.cross(t1);
     double largest = 0.0;
     for (const Vec3& offset : {Vec3(step * t1), Vec3(-step * t1), Vec3(step * t2), Vec3(-step * t2)}) {
       const Vec3 g = field.gradient(pointInSdf + offset);

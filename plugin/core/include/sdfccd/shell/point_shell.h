@@ -49,6 +49,12 @@ struct PointShell {
   void validate() const;
 };
 
+/// The curvature of `shell` at each point (rad per model unit): the largest angle between the point's normal and
+/// a neighbour's, over the neighbour's distance, among the neighbours within 1.5 point spacings (the spacing from
+/// the mean area per point when the shell has areas, else from its bounding box's surface). Points with no
+/// neighbour get 0. Which surface of a pair gives a contact's normal (response/contact_normal.h).
+std::vector<double> shellCurvatures(const PointShell& shell);
+
 /// Gives every point the area totalArea / N (model units^2): the rule for evenly sampled shells, and what the
 /// body-model builder calls on a loaded shell with its mesh's TriangleMesh::area(). Throws sdfccd::Error (one
 /// line) on an empty shell or a totalArea that is not positive and finite.

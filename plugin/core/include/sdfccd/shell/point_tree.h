@@ -55,7 +55,7 @@ class PointTree {
   bool isLeaf(int node) const { return m_childCount[node] == 0; }
   /// The leaf of shell point p.
   int leafOf(int point) const { return m_leafOfPoint[point]; }
-  /// The shell's curvature at point p (rad per model unit; shellCurvatures, response/contact_normal.h): which
+  /// The shell's curvature at point p (rad per model unit; shellCurvatures, point_shell.h): which
   /// surface of a pair gives a contact's normal.
   double curvature(int point) const { return m_curvature[static_cast<std::size_t>(point)]; }
   const std::vector<double>& curvatures() const { return m_curvature; }
